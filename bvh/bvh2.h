@@ -1,0 +1,48 @@
+// The binary BVH: one 32-byte node layout (tinybvh's), built by the
+// assignment's midpoint split (bvh2_midpoint.cpp) or by binned SAH
+// (bvh2_sah.cpp). Builders take spans of primitive boxes and centres and
+// return nodes plus the primitive order; callers permute their primitives.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/bbox.h"
+
+namespace pt {
+
+/// 32 bytes. Inner node: count == 0, children at left_or_first and
+/// left_or_first + 1. Leaf: primitives prim_order[left_or_first .. + count).
+struct Bvh2Node {
+  float3 lower;
+  uint32_t left_or_first = 0;
+  float3 upper;
+  uint32_t count = 0;
+
+  bool is_leaf() const { return count > 0; }
+  BBox bounds() const { return {lower, upper}; }
+};
+static_assert(sizeof(Bvh2Node) == 32);
+
+struct Bvh2 {
+  std::vector<Bvh2Node> nodes;        ///< root at index 0
+  std::vector<uint32_t> prim_order;   ///< input primitive index per leaf slot
+};
+
+/// Deepest a builder goes before falling back to median splits (so that
+/// fixed-size traversal stacks suffice).
+inline constexpr int kBvh2MaxDepth = 64;
+
+/// The assignment's build: split at the midpoint of the longest axis of the
+/// centroid bounds; leaves of at most `max_leaf_size` primitives.
+Bvh2 build_bvh2_midpoint(std::span<const BBox> boxes, std::span<const float3> centers, uint32_t max_leaf_size);
+
+/// Depth (root = 1) and leaf count, for statistics and tests.
+struct Bvh2Shape {
+  int depth = 0;
+  uint32_t leaves = 0;
+};
+Bvh2Shape bvh2_shape(const Bvh2& bvh);
+
+}  // namespace pt

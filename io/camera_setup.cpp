@@ -1,0 +1,131 @@
+// Camera placement, field-of-view widening and camera settings files.
+#include "camera_setup.h"
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "scene_error.h"
+
+namespace pt {
+namespace {
+
+constexpr double kRadians = std::numbers::pi / 180.0;
+
+/// Widens whichever field of view is too narrow for the aspect width/height.
+void widen_to_aspect(double& hfov_deg, double& vfov_deg, int width, int height) {
+  double th = std::tan(hfov_deg * kRadians / 2), tv = std::tan(vfov_deg * kRadians / 2);
+  double target = double(width) / height;
+  if (th / tv < target) hfov_deg = 2 * std::atan(tv * target) / kRadians;
+  else if (th / tv > target) vfov_deg = 2 * std::atan(th / target) / kRadians;
+}
+
+}  // namespace
+
+Camera resolve_camera(const Scene& scene, int width, int height, bool cs184_framing) {
+  const CameraDescription& d = scene.camera;
+  BBox b = scene.bounds.empty() ? BBox{float3(-1.0f), float3(1.0f)} : scene.bounds;
+  float3 target = b.center();
+  float distance = 1.5f * length(b.extent());
+
+  Camera c;
+  float3 to_camera = d.view_dir * distance;
+  c.position = target + to_camera;
+  float3 up{0.0f, 1.0f, 0.0f};
+  if (length(cross(up, to_camera)) == 0.0f) up = {0.0f, 0.0f, -1.0f};  // looking straight down or up
+  c.screen_x = normalize(cross(up, to_camera));
+  c.screen_y = normalize(cross(to_camera, c.screen_x));
+  c.to_camera = normalize(to_camera);
+  c.near_clip = d.near_clip;
+  c.far_clip = d.far_clip;
+
+  double hfov = d.hfov_deg, vfov = d.vfov_deg;
+  if (cs184_framing) {
+    widen_to_aspect(hfov, vfov, 800, 600);
+    double screen_dist = 600.0 / (2.0 * std::tan(vfov * kRadians / 2));
+    c.tan_half_hfov = static_cast<float>(width / (2.0 * screen_dist));
+    c.tan_half_vfov = static_cast<float>(height / (2.0 * screen_dist));
+  } else {
+    widen_to_aspect(hfov, vfov, width, height);
+    c.tan_half_hfov = static_cast<float>(std::tan(hfov * kRadians / 2));
+    c.tan_half_vfov = static_cast<float>(std::tan(vfov * kRadians / 2));
+  }
+  return c;
+}
+
+Camera resolve_camera(const CameraSettingsFile& f, int width, int height) {
+  Camera c;
+  c.position = f.position;
+  c.screen_x = {f.c2w[0][0], f.c2w[1][0], f.c2w[2][0]};
+  c.screen_y = {f.c2w[0][1], f.c2w[1][1], f.c2w[2][1]};
+  c.to_camera = {f.c2w[0][2], f.c2w[1][2], f.c2w[2][2]};
+  c.near_clip = f.near_clip;
+  c.far_clip = f.far_clip;
+  double hfov = f.hfov_deg, vfov = f.vfov_deg;
+  widen_to_aspect(hfov, vfov, width, height);
+  c.tan_half_hfov = static_cast<float>(std::tan(hfov * kRadians / 2));
+  c.tan_half_vfov = static_cast<float>(std::tan(vfov * kRadians / 2));
+  return c;
+}
+
+CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in || std::filesystem::is_directory(path)) throw InputError(path.string() + ": cannot open camera file");
+  CameraSettingsFile f;
+  const char* field = "";
+  auto read = [&](const char* name, float& v) {
+    field = name;
+    std::string tok;
+    if (!(in >> tok)) throw InputError(path.string() + ": camera file ends before " + name);
+    size_t used = 0;
+    try {
+      v = std::stof(tok, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (used != tok.size() || !std::isfinite(v))
+      throw InputError(path.string() + ": camera file field " + name + " is not a finite number: \"" + tok + "\"");
+  };
+  read("hFov", f.hfov_deg); read("vFov", f.vfov_deg); read("aspect", f.aspect);
+  read("nClip", f.near_clip); read("fClip", f.far_clip);
+  read("pos.x", f.position.x); read("pos.y", f.position.y); read("pos.z", f.position.z);
+  read("target.x", f.target.x); read("target.y", f.target.y); read("target.z", f.target.z);
+  read("phi", f.phi); read("theta", f.theta); read("r", f.r); read("minR", f.min_r); read("maxR", f.max_r);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) read("c2w", f.c2w[i][j]);
+  read("screenW", f.screen_w); read("screenH", f.screen_h); read("screenDist", f.screen_dist);
+  read("focalDistance", f.focal_distance); read("lensRadius", f.lens_radius);
+  (void)field;
+  if (!(f.hfov_deg > 0 && f.hfov_deg < 180 && f.vfov_deg > 0 && f.vfov_deg < 180))
+    throw InputError(path.string() + ": camera file fields of view must be between 0 and 180 degrees");
+  if (!(f.near_clip >= 0 && f.far_clip > f.near_clip))
+    throw InputError(path.string() + ": camera file needs 0 <= nClip < fClip");
+  float3 cols[3] = {{f.c2w[0][0], f.c2w[1][0], f.c2w[2][0]},
+                    {f.c2w[0][1], f.c2w[1][1], f.c2w[2][1]},
+                    {f.c2w[0][2], f.c2w[1][2], f.c2w[2][2]}};
+  for (const float3& col : cols)
+    if (std::fabs(length(col) - 1.0f) > 1e-3f)
+      throw InputError(path.string() + ": camera file c2w columns must be unit vectors");
+  return f;
+}
+
+void write_camera_settings_file(const std::filesystem::path& path, const Camera& c, int width, int height) {
+  std::ostringstream o;
+  o.precision(9);
+  double hfov = 2 * std::atan(c.tan_half_hfov) / kRadians, vfov = 2 * std::atan(c.tan_half_vfov) / kRadians;
+  float3 target = c.position - c.to_camera;
+  double screen_dist = height / (2.0 * c.tan_half_vfov);
+  o << hfov << " " << vfov << " " << double(width) / height << " " << c.near_clip << " " << c.far_clip << "\n";
+  o << c.position.x << " " << c.position.y << " " << c.position.z << " " << target.x << " " << target.y << " "
+    << target.z << "\n";
+  o << std::acos(std::clamp(c.to_camera.y, -1.0f, 1.0f)) << " " << std::atan2(c.to_camera.x, c.to_camera.z)
+    << " 1 0 1e30\n";
+  float3 cols[3] = {c.screen_x, c.screen_y, c.to_camera};
+  for (int i = 0; i < 3; ++i) o << cols[0][i] << " " << cols[1][i] << " " << cols[2][i] << "\n";
+  o << width << " " << height << " " << screen_dist << "\n0 0\n";
+  write_file_atomically(path, o.str());
+}
+
+}  // namespace pt

@@ -1,0 +1,42 @@
+// The pathtracer command line: the CS184 flags (-s -l -t -m -r -f -a -H -c -p),
+// their long forms, and this renderer's additions. Parsing validates every
+// value and reports the first bad one in a single line.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kernels/render_settings.h"
+
+namespace pt::cli {
+
+enum class Engine { kReference, kWavefront, kMegakernel };
+enum class AccelChoice { kBvh4, kBvh2, kNone };
+
+struct Options {
+  std::string scene_path;            ///< empty: the built-in default scene
+  std::string output_path;           ///< -f; empty: <scene name>.png
+  std::string camera_file;           ///< -c
+  std::string write_camera_file;     ///< --write-camera
+  RenderSettings settings;
+  Engine engine = Engine::kReference;
+  AccelChoice accel = AccelChoice::kBvh2;
+  uint32_t max_leaf_size = 4;
+  bool cs184_framing = false;
+  bool quiet = false;
+  bool stats = false;
+};
+
+/// Outcome of parsing: options to run with, or an exit code (0 after --help).
+struct ParseResult {
+  std::optional<Options> options;
+  int exit_code = 0;
+};
+
+ParseResult parse_command_line(int argc, char** argv);
+
+const char* engine_name(Engine e);
+const char* accel_name(AccelChoice a);
+
+}  // namespace pt::cli

@@ -1,0 +1,91 @@
+// pathtracer: load a scene, check the output can be written, render with the
+// chosen engine, write the image (and the sample-rate image), and print the
+// course renderer's end-of-render report. Errors print one line and exit 1.
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+
+#include "cli_options.h"
+#include "io/atomic_file.h"
+#include "io/camera_setup.h"
+#include "io/collada_loader.h"
+#include "io/image_output.h"
+#include "io/scene_error.h"
+#include "progress_bar.h"
+#include "render_engines.h"
+
+namespace {
+
+using namespace pt;
+
+std::filesystem::path default_output(const cli::Options& o, const Scene& scene) {
+  return std::filesystem::path(scene.name).stem().string() + ".png";
+}
+
+void print_report(const cli::Options& o, const RenderOutput& out) {
+  const RenderStats& st = out.stats;
+  double mrays = st.seconds > 0 ? st.rays() / st.seconds / 1e6 : 0.0;
+  std::printf("Rendered in %.3f s with the %s engine (%s); %llu rays traced (camera %llu, bounce %llu, "
+              "shadow %llu); %.2f million rays per second; %.2f intersection tests per ray; %llu samples",
+              st.seconds, cli::engine_name(o.engine), cli::accel_name(o.accel),
+              static_cast<unsigned long long>(st.rays()), static_cast<unsigned long long>(st.camera_rays),
+              static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays,
+              st.rays() ? double(st.intersection_tests) / st.rays() : 0.0,
+              static_cast<unsigned long long>(st.samples));
+  if (st.invalid_samples) std::printf("; %llu invalid samples discarded", static_cast<unsigned long long>(st.invalid_samples));
+  std::printf("\n");
+}
+
+int run(const cli::Options& o) {
+  std::filesystem::path scene_path = o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE) : std::filesystem::path(o.scene_path);
+  LoadResult loaded = load_collada_file(scene_path);
+  for (const std::string& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (!o.quiet) std::printf("%s\n", scene_summary(loaded).c_str());
+  const Scene& scene = loaded.scene;
+  const RenderSettings& rs = o.settings;
+  if (rs.direct == DirectLighting::kHemisphere && scene.has_delta_lights_only())
+    std::fprintf(stderr,
+                 "warning: %s: -H (hemisphere sampling) cannot see point or directional lights; their direct light "
+                 "will be black\n",
+                 scene.name.c_str());
+
+  std::filesystem::path output = o.output_path.empty() ? default_output(o, scene) : std::filesystem::path(o.output_path);
+  check_writable(output);
+  if (rs.adaptive()) check_writable(rate_image_path(output));
+  if (!o.write_camera_file.empty()) check_writable(o.write_camera_file);
+
+  Camera camera = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
+                                        : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
+
+  cli::ProgressBar bar(!o.quiet);
+  RenderControl control;
+  control.progress = [&bar](double f) { bar.update(f); };
+  RenderOutput out = cli::render_with_engine(o, scene, camera, control);
+  bar.finish();
+
+  write_image(output, out.film);
+  if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), out.film);
+  if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);
+  if (!o.quiet) {
+    print_report(o, out);
+    std::printf("Wrote %s%s\n", output.c_str(), rs.adaptive() ? (" and " + rate_image_path(output).string()).c_str() : "");
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  pt::cli::ParseResult parsed = pt::cli::parse_command_line(argc, argv);
+  if (!parsed.options) return parsed.exit_code;
+  try {
+    return run(*parsed.options);
+  } catch (const pt::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+  }
+  return 1;
+}

@@ -1,0 +1,171 @@
+// ColladaDocument: parsing, id index, messages and strict number lists.
+#include "collada_document.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include "scene_error.h"
+
+namespace pt {
+namespace {
+
+bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }
+
+/// Calls f(token) for each whitespace-separated token of s.
+template <class F> void for_each_token(std::string_view s, F&& f) {
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && is_space(s[i])) ++i;
+    size_t j = i;
+    while (j < s.size() && !is_space(s[j])) ++j;
+    if (j > i) f(s.substr(i, j - i));
+    i = j;
+  }
+}
+
+std::string shorten(std::string_view token) {
+  return token.size() <= 24 ? std::string(token) : std::string(token.substr(0, 24)) + "...";
+}
+
+}  // namespace
+
+ColladaDocument::ColladaDocument(std::string label, std::string text)
+    : label_(std::move(label)), text_(std::move(text)) {
+  line_starts_.push_back(0);
+  for (size_t i = 0; i < text_.size(); ++i)
+    if (text_[i] == '\n') line_starts_.push_back(i + 1);
+
+  pugi::xml_parse_result r = doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
+  if (!r)
+    throw InputError(label_ + ":" + std::to_string(line_of_offset(r.offset)) + ": malformed XML: " + r.description());
+  pugi::xml_node top = doc_.document_element();
+  if (!top) throw InputError(label_ + ": no root element");
+  if (std::string_view(top.name()) != "COLLADA")
+    throw InputError(label_ + ":" + std::to_string(line_of(top)) + ": root element is <" + top.name() +
+                     ">, expected <COLLADA>");
+
+  // Index ids iteratively (deep nesting must not exhaust the stack).
+  std::vector<pugi::xml_node> stack{top};
+  while (!stack.empty()) {
+    pugi::xml_node n = stack.back();
+    stack.pop_back();
+    if (pugi::xml_attribute id = n.attribute("id")) {
+      auto [it, inserted] = ids_.emplace(id.value(), n);
+      if (!inserted) {
+        pugi::xml_node later = line_of(n) > line_of(it->second) ? n : it->second;
+        pugi::xml_node earlier = later == n ? it->second : n;
+        fail(later, std::string("id \"") + id.value() + "\" is already defined on line " +
+                        std::to_string(line_of(earlier)));
+      }
+    }
+    for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
+      if (c.type() == pugi::node_element) stack.push_back(c);
+  }
+}
+
+pugi::xml_node ColladaDocument::find(std::string_view url) const {
+  if (!url.empty() && url.front() == '#') url.remove_prefix(1);
+  auto it = ids_.find(url);
+  return it == ids_.end() ? pugi::xml_node() : it->second;
+}
+
+pugi::xml_node ColladaDocument::resolve(pugi::xml_node from, std::string_view url) const {
+  pugi::xml_node n = find(url);
+  if (!n) fail(from, "refers to \"" + std::string(url) + "\", which no element defines");
+  return n;
+}
+
+int ColladaDocument::line_of_offset(ptrdiff_t offset) const {
+  if (offset < 0) return 0;
+  auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), static_cast<size_t>(offset));
+  return static_cast<int>(it - line_starts_.begin());
+}
+
+int ColladaDocument::line_of(pugi::xml_node element) const { return line_of_offset(element.offset_debug()); }
+
+std::string ColladaDocument::describe(pugi::xml_node e) const {
+  std::string s = "<" + std::string(e.name());
+  for (const char* attr : {"id", "sid", "material", "url", "source", "semantic"})
+    if (pugi::xml_attribute a = e.attribute(attr)) {
+      s += std::string(" ") + attr + "=\"" + shorten(a.value()) + "\"";
+      break;
+    }
+  return s + ">";
+}
+
+void ColladaDocument::fail(pugi::xml_node where, const std::string& what) const {
+  if (!where) throw InputError(label_ + ": " + what);
+  throw InputError(label_ + ":" + std::to_string(line_of(where)) + ": " + describe(where) + ": " + what);
+}
+
+void ColladaDocument::warn(pugi::xml_node where, const std::string& what) {
+  std::string w = label_;
+  if (where) w += ":" + std::to_string(line_of(where)) + ": " + describe(where);
+  warnings_.push_back(w + ": " + what);
+}
+
+std::vector<float> ColladaDocument::floats(pugi::xml_node element) const {
+  std::vector<float> out;
+  for_each_token(element.child_value(), [&](std::string_view tok) {
+    std::string_view digits = (!tok.empty() && tok.front() == '+') ? tok.substr(1) : tok;
+    float v = 0.0f;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    if (ec == std::errc::result_out_of_range) fail(element, "number \"" + shorten(tok) + "\" is out of float range");
+    if (ec != std::errc() || end != digits.data() + digits.size())
+      fail(element, "\"" + shorten(tok) + "\" is not a number");
+    if (!std::isfinite(v)) fail(element, "non-finite number \"" + shorten(tok) + "\"");
+    out.push_back(v);
+  });
+  return out;
+}
+
+std::vector<float> ColladaDocument::floats(pugi::xml_node element, size_t n) const {
+  std::vector<float> v = floats(element);
+  if (v.size() != n)
+    fail(element, "holds " + std::to_string(v.size()) + " numbers, expected " + std::to_string(n));
+  return v;
+}
+
+float3 ColladaDocument::color(pugi::xml_node element) const {
+  std::vector<float> v = floats(element);
+  if (v.size() != 3 && v.size() != 4)
+    fail(element, "holds " + std::to_string(v.size()) + " numbers, expected 3 (or 4 with alpha)");
+  return {v[0], v[1], v[2]};
+}
+
+float ColladaDocument::scalar(pugi::xml_node element, float fallback) const {
+  if (!element) return fallback;
+  return floats(element, 1)[0];
+}
+
+std::vector<uint32_t> ColladaDocument::indices(pugi::xml_node element, uint64_t limit, const char* what) const {
+  std::vector<uint32_t> out;
+  for_each_token(element.child_value(), [&](std::string_view tok) {
+    uint64_t v = 0;
+    auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (!tok.empty() && tok.front() == '-') fail(element, std::string("negative ") + what + " \"" + shorten(tok) + "\"");
+    if (ec != std::errc() || end != tok.data() + tok.size())
+      fail(element, "\"" + shorten(tok) + "\" is not a non-negative integer");
+    if (v >= limit)
+      fail(element, std::string(what) + " " + std::to_string(v) + " is out of range (" + std::to_string(limit) +
+                        " available)");
+    out.push_back(static_cast<uint32_t>(v));
+  });
+  return out;
+}
+
+uint64_t ColladaDocument::count_attribute(pugi::xml_node element, const char* name, uint64_t fallback,
+                                          uint64_t limit) const {
+  pugi::xml_attribute a = element.attribute(name);
+  if (!a) return fallback;
+  std::string_view s = a.value();
+  uint64_t v = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty())
+    fail(element, std::string(name) + "=\"" + shorten(s) + "\" is not a non-negative integer");
+  if (v > limit) fail(element, std::string(name) + "=\"" + shorten(s) + "\" is larger than the data it describes");
+  return v;
+}
+
+}  // namespace pt

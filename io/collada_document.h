@@ -1,0 +1,65 @@
+// A parsed COLLADA file with everything the element readers need: lookup by
+// id, strict number parsing, and errors and warnings that name the file, the
+// line and the element. Every reader in io/collada_*.cpp works through it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "kernels/vec3.h"
+
+namespace pt {
+
+class ColladaDocument {
+ public:
+  /// Parses `text`; `label` names the file in messages. Throws InputError.
+  ColladaDocument(std::string label, std::string text);
+  ColladaDocument(const ColladaDocument&) = delete;
+  ColladaDocument& operator=(const ColladaDocument&) = delete;
+
+  pugi::xml_node root() const { return doc_.document_element(); }
+  const std::string& label() const { return label_; }
+
+  /// The element with this id ("#id" or "id"); fails naming `from` if absent.
+  pugi::xml_node resolve(pugi::xml_node from, std::string_view url) const;
+  /// The element with this id, or an empty node.
+  pugi::xml_node find(std::string_view url) const;
+
+  [[noreturn]] void fail(pugi::xml_node where, const std::string& what) const;
+  void warn(pugi::xml_node where, const std::string& what);
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  /// All numbers in the element's text; every one must be finite.
+  std::vector<float> floats(pugi::xml_node element) const;
+  /// Exactly `n` finite numbers.
+  std::vector<float> floats(pugi::xml_node element, size_t n) const;
+  /// The first three numbers of a colour or vector (a fourth, alpha, is ignored).
+  float3 color(pugi::xml_node element) const;
+  /// A single finite number, or `fallback` when the element is absent.
+  float scalar(pugi::xml_node element, float fallback) const;
+  /// Non-negative integers, each < `limit`.
+  std::vector<uint32_t> indices(pugi::xml_node element, uint64_t limit, const char* what) const;
+  /// A non-negative integer attribute no larger than `limit`; `fallback` when absent.
+  uint64_t count_attribute(pugi::xml_node element, const char* name, uint64_t fallback, uint64_t limit) const;
+
+  /// "<tag id="x">" or "<tag>" for messages.
+  std::string describe(pugi::xml_node element) const;
+
+ private:
+  int line_of(pugi::xml_node element) const;
+  int line_of_offset(ptrdiff_t offset) const;
+
+  std::string label_;
+  std::string text_;
+  pugi::xml_document doc_;
+  std::vector<size_t> line_starts_;
+  std::unordered_map<std::string_view, pugi::xml_node> ids_;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace pt

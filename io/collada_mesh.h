@@ -1,0 +1,30 @@
+// Reads one <geometry>: a <mesh> of <triangles> / <polylist> primitives into
+// local-space positions and triangles (polygons fan-triangulated), or a CGL
+// sphere's radius.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "collada_document.h"
+#include "kernels/scene.h"
+
+namespace pt {
+
+struct MeshData {
+  std::vector<float3> positions;
+  std::vector<TriangleIndices> triangles;
+  std::vector<uint32_t> triangle_symbol;  ///< index into `symbols`, per triangle
+  std::vector<std::string> symbols;       ///< each primitive's material="..." symbol
+};
+
+/// Reads `<mesh>`; throws InputError naming the offending element.
+MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh);
+
+/// The radius of a CGL sphere geometry, or nullopt if `geometry` is not one.
+std::optional<float> read_sphere_radius(ColladaDocument& doc, pugi::xml_node geometry);
+
+}  // namespace pt

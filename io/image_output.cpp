@@ -1,0 +1,100 @@
+// PNG (through stb_image_write), PFM and the sample-rate colour map.
+#include "image_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_WRITE_NO_STDIO
+#include <stb/stb_image_write.h>
+
+#include "atomic_file.h"
+#include "scene_error.h"
+
+namespace pt {
+
+ImageFormat image_format_for(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".pfm" ? ImageFormat::kPfm : ImageFormat::kPng;
+}
+
+std::filesystem::path rate_image_path(const std::filesystem::path& output) {
+  std::filesystem::path p = output;
+  p.replace_filename(output.stem().string() + "_rate.png");
+  return p;
+}
+
+uint8_t encode_channel(float linear) {
+  float v = std::pow(std::max(linear, 0.0f) * std::sqrt(2.0f), 1.0f / 2.2f);
+  if (!(v >= 0.0f)) v = 0.0f;  // NaN
+  v = std::min(v, 1.0f);
+  return static_cast<uint8_t>(std::lround(v * 255.0f));
+}
+
+std::string encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb) {
+  std::string out;
+  auto sink = [](void* ctx, void* data, int size) {
+    static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<size_t>(size));
+  };
+  if (!stbi_write_png_to_func(sink, &out, width, height, 3, rgb.data(), width * 3))
+    throw InputError("PNG encoding failed");
+  return out;
+}
+
+std::string encode_pfm(int width, int height, const std::vector<float3>& rgb) {
+  std::string header = "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n-1.0\n";
+  std::string out = header;
+  out.resize(header.size() + size_t(width) * height * 12);
+  char* dst = out.data() + header.size();
+  for (int y = height - 1; y >= 0; --y)  // PFM stores the bottom row first
+    for (int x = 0; x < width; ++x) {
+      const float3& c = rgb[size_t(y) * width + x];
+      std::memcpy(dst, &c, 12);
+      dst += 12;
+    }
+  return out;
+}
+
+void write_image(const std::filesystem::path& path, const Film& film) {
+  if (image_format_for(path) == ImageFormat::kPfm) {
+    write_file_atomically(path, encode_pfm(film.width, film.height, film.radiance));
+    return;
+  }
+  std::vector<uint8_t> rgb(film.radiance.size() * 3);
+  for (size_t i = 0; i < film.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = encode_channel(film.radiance[i][c]);
+  write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
+}
+
+void write_sample_rate_image(const std::filesystem::path& path, const Film& film) {
+  std::vector<uint8_t> rgb(film.samples.size() * 3);
+  float denom = static_cast<float>(std::max<uint32_t>(film.max_samples, 1));
+  for (size_t i = 0; i < film.samples.size(); ++i) {
+    float r = std::clamp(film.samples[i] / denom, 0.0f, 1.0f);
+    float3 c = r < 0.5f ? float3{0.0f, 2.0f * r, 1.0f - 2.0f * r} : float3{2.0f * r - 1.0f, 2.0f - 2.0f * r, 0.0f};
+    for (int k = 0; k < 3; ++k) rgb[i * 3 + k] = static_cast<uint8_t>(std::lround(c[k] * 255.0f));
+  }
+  write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
+}
+
+std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int& height) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open PFM");
+  std::string magic;
+  float scale = 0;
+  in >> magic >> width >> height >> scale;
+  if (magic != "PF" || width <= 0 || height <= 0 || width > 65536 || height > 65536 || scale >= 0)
+    throw InputError(path.string() + ": not a little-endian RGB PFM");
+  in.get();
+  std::vector<float3> rgb(size_t(width) * height);
+  for (int y = height - 1; y >= 0; --y)
+    if (!in.read(reinterpret_cast<char*>(&rgb[size_t(y) * width]), std::streamsize(width) * 12))
+      throw InputError(path.string() + ": PFM data is truncated");
+  return rgb;
+}
+
+}  // namespace pt

@@ -1,0 +1,37 @@
+// Writes a Film: PNG with the course renderer's encoding
+// (clamp((L * sqrt 2)^(1/2.2)) to 8 bits, top row first), PFM (linear float
+// RGB, for error measurement) chosen by the file extension, and the
+// sample-rate image. Every write is atomic.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "kernels/film.h"
+
+namespace pt {
+
+enum class ImageFormat { kPng, kPfm };
+
+/// By extension: ".pfm" -> PFM, anything else -> PNG.
+ImageFormat image_format_for(const std::filesystem::path& path);
+
+/// out.png -> out_rate.png (the sample-rate image beside an output).
+std::filesystem::path rate_image_path(const std::filesystem::path& output);
+
+/// 8-bit sRGB-ish value of one linear channel, as the course renderer encodes it.
+uint8_t encode_channel(float linear);
+
+void write_image(const std::filesystem::path& path, const Film& film);
+void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
+
+/// Linear RGB image file contents (exposed for tests).
+std::string encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb);
+std::string encode_pfm(int width, int height, const std::vector<float3>& top_down_rgb);
+
+/// Reads a PFM written by encode_pfm (3 channels, little endian). Throws InputError.
+std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int& height);
+
+}  // namespace pt

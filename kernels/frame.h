@@ -1,0 +1,36 @@
+// Orthonormal shading frame around a unit normal, built without branches
+// (Duff et al. 2017, "Building an Orthonormal Basis, Revisited"). Local +z is
+// the normal. Templated over the lane type.
+#pragma once
+
+#include "lane_math.h"
+#include "vec3.h"
+
+namespace pt {
+
+template <class T> struct Vec3T { T x, y, z; };
+
+/// Tangent vectors (t, b) such that (t, b, n) is right-handed and orthonormal.
+template <class T>
+inline void tangent_frame(T nx, T ny, T nz, Vec3T<T>& t, Vec3T<T>& b) {
+  T s = lane::sign_of(nz);
+  T a = T(-1.0f) / (s + nz);
+  T c = nx * ny * a;
+  t = {T(1.0f) + s * nx * nx * a, s * c, -s * nx};
+  b = {c, s + ny * ny * a, -ny};
+}
+
+/// Local direction (lx, ly, lz) around normal n expressed in world space.
+template <class T>
+inline Vec3T<T> to_world(T nx, T ny, T nz, T lx, T ly, T lz) {
+  Vec3T<T> t, b;
+  tangent_frame(nx, ny, nz, t, b);
+  return {t.x * lx + b.x * ly + nx * lz, t.y * lx + b.y * ly + ny * lz, t.z * lx + b.z * ly + nz * lz};
+}
+
+inline float3 to_world(float3 n, float3 local) {
+  Vec3T<float> w = to_world(n.x, n.y, n.z, local.x, local.y, local.z);
+  return {w.x, w.y, w.z};
+}
+
+}  // namespace pt

@@ -1,0 +1,31 @@
+// The contract between the command line (or a test) and any render engine:
+// what to render, how to report progress and stop early, and what comes back.
+#pragma once
+
+#include <atomic>
+#include <functional>
+
+#include "camera.h"
+#include "film.h"
+#include "render_settings.h"
+#include "render_stats.h"
+#include "scene.h"
+
+namespace pt {
+
+struct RenderControl {
+  /// Called now and then from worker threads with the finished fraction.
+  std::function<void(double)> progress;
+  /// When set and true, engines stop at the next tile / pass boundary.
+  const std::atomic<bool>* cancel = nullptr;
+
+  bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+};
+
+struct RenderOutput {
+  Film film;
+  RenderStats stats;
+  bool cancelled = false;  ///< the film holds only what finished before the stop
+};
+
+}  // namespace pt

@@ -1,0 +1,59 @@
+// What a render is asked to do: the CS184 flags and this renderer's additions.
+// Shared by every engine so that the same settings mean the same image.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+namespace pt {
+
+enum class DirectLighting : uint8_t {
+  kLightSampling,  ///< -l: sample each light (the default)
+  kHemisphere,     ///< -H: uniform hemisphere sampling, lights found by hitting them
+};
+
+enum class BounceMode : uint8_t {
+  kAccumulate,     ///< all bounces 0..m (the default)
+  kOnlyBounceM,    ///< only light that arrives after exactly m bounces
+  kDirectOnly,     ///< bounces 0 and 1
+  kIndirectOnly,   ///< bounces 2..m
+};
+
+enum class ShadingMode : uint8_t { kPathTrace, kNormals };
+
+/// A rectangle of the image, (x, y) = top-left pixel, in pixels.
+struct Region {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
+struct RenderSettings {
+  int width = 800, height = 600;
+  int samples_per_pixel = 1;       ///< -s: maximum camera rays per pixel
+  int light_samples = 1;           ///< -l: samples per area light (and sky)
+  int max_depth = 1;               ///< -m: maximum bounces
+  int adaptive_batch = 32;         ///< -a BATCH TOL: check convergence every BATCH samples
+  float adaptive_tolerance = 0.05f;///< 0 turns adaptive sampling off
+  float rr_continue = 0.65f;       ///< Russian roulette continuation probability
+  DirectLighting direct = DirectLighting::kLightSampling;
+  BounceMode bounces = BounceMode::kAccumulate;
+  ShadingMode shading = ShadingMode::kPathTrace;
+  uint32_t seed = 0;
+  int threads = 1;
+  std::optional<Region> region;    ///< -p: render only this region
+  bool cs184_light_quirk = false;  ///< area lights look as the course renderer shows them
+  bool cs184_invisible_sky = false;///< escaped rays see no sky (course renderer)
+
+  bool adaptive() const { return adaptive_tolerance > 0.0f && adaptive_batch > 0; }
+  /// Whether light that arrives after `bounce` reflections enters the image.
+  bool counts_bounce(int bounce) const {
+    switch (bounces) {
+      case BounceMode::kAccumulate: return bounce <= max_depth;
+      case BounceMode::kOnlyBounceM: return bounce == max_depth;
+      case BounceMode::kDirectOnly: return bounce <= 1;
+      case BounceMode::kIndirectOnly: return bounce >= 2 && bounce <= max_depth;
+    }
+    return false;
+  }
+};
+
+}  // namespace pt

@@ -1,0 +1,32 @@
+// The one place that names SIMD types. N = BVH branching factor (4), K = lanes of
+// the uniform (across-rays) stages: the widest float batch xsimd picks for the
+// build target. Everything else says vfloat4 / vfloatK and never touches
+// intrinsics directly.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <immintrin.h>
+#include <xsimd/xsimd.hpp>
+
+namespace pt {
+
+using vfloat4 = xsimd::batch<float, xsimd::sse4_2>;
+using vint4 = xsimd::batch<int32_t, xsimd::sse4_2>;
+using vuint4 = xsimd::batch<uint32_t, xsimd::sse4_2>;
+using vbool4 = xsimd::batch_bool<float, xsimd::sse4_2>;
+
+using vfloatK = xsimd::batch<float>;
+using vintK = xsimd::batch<int32_t>;
+using vuintK = xsimd::batch<uint32_t>;
+using vboolK = xsimd::batch_bool<float>;
+
+inline constexpr std::size_t kBvhWidth = 4;
+inline constexpr std::size_t kLanes = vfloatK::size;
+
+/// Bit mask of the true lanes of a 4-wide comparison (lane i -> bit i).
+/// xsimd 8.1 has no portable mask extraction; this is the one raw intrinsic.
+inline uint32_t movemask(vbool4 m) { return static_cast<uint32_t>(_mm_movemask_ps(m)); }
+
+}  // namespace pt

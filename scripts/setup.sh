@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# First command of the README: install dependencies, build (Release,
+# -march=native) and render the built-in default scene to out/cornell_spheres.png.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install_deps.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build
+mkdir -p out
+./build/io/cli/pathtracer -t "$(nproc)" -s 64 -l 4 -m 5 -r 480 360 -f out/cornell_spheres.png

@@ -1,0 +1,39 @@
+// The reference renderer's ray queries: a binary BVH built with the
+// assignment's midpoint split, or brute force over every primitive, with
+// Moller-Trumbore triangles and analytic spheres. Counts primitive tests.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/bvh2.h"
+#include "kernels/ray.h"
+#include "kernels/scene.h"
+
+namespace pt::reference {
+
+enum class AccelMode { kBvh, kBruteForce };
+
+class ReferenceAccel {
+ public:
+  ReferenceAccel(const Scene& scene, AccelMode mode, uint32_t max_leaf_size = 4);
+
+  /// Closest hit with ray.tmin <= t < ray.tmax; `tests` counts primitive tests.
+  bool intersect(const Ray& ray, Hit& hit, uint64_t& tests) const;
+  /// Whether anything lies on the ray within [tmin, tmax).
+  bool occluded(const Ray& ray, uint64_t& tests) const;
+
+  const Bvh2& bvh() const { return bvh_; }
+  AccelMode mode() const { return mode_; }
+
+ private:
+  /// Tests primitive `prim` (triangles first, then spheres); on a hit closer
+  /// than `tmax` fills `hit` and returns true.
+  bool test_primitive(uint32_t prim, const Ray& ray, float tmax, Hit& hit) const;
+
+  const Scene& scene_;
+  AccelMode mode_;
+  Bvh2 bvh_;
+};
+
+}  // namespace pt::reference
