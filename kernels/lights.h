@@ -44,17 +44,41 @@ struct LightSample {
   float3 radiance;
 };
 
-inline LightSample sample_area_light(const AreaLight& l, const float3& p, float u1, float u2) {
-  float3 q = l.position + l.dim_x * (u1 - 0.5f) + l.dim_y * (u2 - 0.5f);
-  float3 d = q - p;
-  float dist2 = dot(d, d);
-  float dist = std::sqrt(dist2);
-  LightSample s;
-  s.wi = d / dist;
+/// Lane-generic area-light sample towards point (px, py, pz): the unit
+/// direction, distance and solid-angle pdf. `facing` is true where the sample
+/// can send light to p (it lies on the emitting side and the pdf is finite).
+template <class T>
+struct AreaLightSampleT {
+  Vec3T<T> wi;
+  T dist, pdf;
+  lane::mask_t<T> facing;
+};
+
+template <class T>
+inline AreaLightSampleT<T> sample_area_light(const AreaLight& l, T px, T py, T pz, T u1, T u2) {
+  T a = u1 - T(0.5f), b = u2 - T(0.5f);
+  T dx = T(l.position.x) + T(l.dim_x.x) * a + T(l.dim_y.x) * b - px;
+  T dy = T(l.position.y) + T(l.dim_x.y) * a + T(l.dim_y.y) * b - py;
+  T dz = T(l.position.z) + T(l.dim_x.z) * a + T(l.dim_y.z) * b - pz;
+  T dist2 = dx * dx + dy * dy + dz * dz;
+  T dist = lane::sqrt(dist2);
+  T inv = T(1.0f) / dist;
+  AreaLightSampleT<T> s;
+  s.wi = {dx * inv, dy * inv, dz * inv};
   s.dist = dist;
-  float cos_light = dot(s.wi, l.direction);
-  s.pdf = dist2 / (l.area * std::fabs(cos_light));
-  if (cos_light < 0.0f && dist > 0.0f && std::isfinite(s.pdf)) s.radiance = l.radiance;
+  T cos_light = s.wi.x * T(l.direction.x) + s.wi.y * T(l.direction.y) + s.wi.z * T(l.direction.z);
+  s.pdf = dist2 / (T(l.area) * lane::abs(cos_light));
+  s.facing = (cos_light < T(0.0f)) && (dist > T(0.0f)) && (s.pdf < T(kInfinity));
+  return s;
+}
+
+inline LightSample sample_area_light(const AreaLight& l, const float3& p, float u1, float u2) {
+  AreaLightSampleT<float> t = sample_area_light<float>(l, p.x, p.y, p.z, u1, u2);
+  LightSample s;
+  s.wi = {t.wi.x, t.wi.y, t.wi.z};
+  s.dist = t.dist;
+  s.pdf = t.pdf;
+  if (t.facing) s.radiance = l.radiance;
   return s;
 }
 
@@ -82,9 +106,14 @@ inline LightSample sample_directional_light(const DirectionalLight& l) {
 
 /// The sky's local frame has +Y as its pole: local (x, y, z) -> world (x, z, y)
 /// keeps it right-handed up to a reflection that uniform sampling cannot see.
+template <class T> inline Vec3T<T> sample_sky_direction(T u1, T u2) {
+  Vec3T<T> h = sample_uniform_hemisphere(u1, u2);
+  return {h.x, h.z, h.y};
+}
+
 inline LightSample sample_sky_light(const SkyLight& l, float u1, float u2) {
-  Vec3T<float> h = sample_uniform_hemisphere(u1, u2);
-  return {float3{h.x, h.z, h.y}, kInfinity, kInv2Pi, l.radiance};
+  Vec3T<float> d = sample_sky_direction(u1, u2);
+  return {float3{d.x, d.y, d.z}, kInfinity, kInv2Pi, l.radiance};
 }
 
 /// Radiance the sky sends along a ray leaving in direction d (unit).

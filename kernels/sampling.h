@@ -19,7 +19,7 @@ template <class T> inline Vec3T<T> sample_uniform_hemisphere(T u1, T u2) {
   T z = u1;
   T r = lane::sqrt(lane::max(T(0.0f), T(1.0f) - z * z));
   T s, c;
-  lane::sincos(T(2.0f * kPi) * u2, s, c);
+  lane::sincos_2pi(u2, s, c);
   return {r * c, r * s, z};
 }
 
@@ -27,7 +27,7 @@ template <class T> inline Vec3T<T> sample_uniform_hemisphere(T u1, T u2) {
 template <class T> inline Vec3T<T> sample_cosine_hemisphere(T u1, T u2) {
   T r = lane::sqrt(u1);
   T s, c;
-  lane::sincos(T(2.0f * kPi) * u2, s, c);
+  lane::sincos_2pi(u2, s, c);
   return {r * c, r * s, lane::sqrt(lane::max(T(0.0f), T(1.0f) - u1))};
 }
 
@@ -36,10 +36,9 @@ template <class T> inline Vec3T<T> sample_uniform_sphere(T u1, T u2) {
   T z = T(1.0f) - T(2.0f) * u1;
   T r = lane::sqrt(lane::max(T(0.0f), T(1.0f) - z * z));
   T s, c;
-  lane::sincos(T(2.0f * kPi) * u2, s, c);
+  lane::sincos_2pi(u2, s, c);
   return {r * c, r * s, z};
 }
 
-inline float3 to_float3(const Vec3T<float>& v) { return {v.x, v.y, v.z}; }
 
 }  // namespace pt

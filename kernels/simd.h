@@ -29,4 +29,22 @@ inline constexpr std::size_t kLanes = vfloatK::size;
 /// xsimd 8.1 has no portable mask extraction; this is the one raw intrinsic.
 inline uint32_t movemask(vbool4 m) { return static_cast<uint32_t>(_mm_movemask_ps(m)); }
 
+/// Bit mask of the true lanes of a K-wide comparison (lane i -> bit i).
+inline uint64_t bitmask(vboolK m) {
+#if defined(__AVX512F__)
+  return static_cast<uint64_t>(static_cast<__mmask16>(m));
+#elif defined(__AVX__)
+  return static_cast<uint64_t>(_mm256_movemask_ps(m));
+#else
+  return static_cast<uint64_t>(_mm_movemask_ps(m));
+#endif
+}
+
+/// Lane indices 0, 1, ..., K-1.
+inline vintK lane_index() {
+  alignas(64) int32_t idx[kLanes];
+  for (size_t i = 0; i < kLanes; ++i) idx[i] = static_cast<int32_t>(i);
+  return vintK::load_aligned(idx);
+}
+
 }  // namespace pt

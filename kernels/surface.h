@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include "frame.h"
+#include "lane_math.h"
 #include "ray.h"
 #include "render_settings.h"
 #include "scene.h"
@@ -28,43 +30,92 @@ struct SurfacePoint {
   bool front = true; ///< the ray arrived on the side the stored normal faces
 };
 
+template <class T> inline T dot3(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T> inline Vec3T<T> scale3(const Vec3T<T>& a, T s) { return {a.x * s, a.y * s, a.z * s}; }
+template <class T> inline Vec3T<T> select3(lane::mask_t<T> m, const Vec3T<T>& a, const Vec3T<T>& b) {
+  return {lane::select(m, a.x, b.x), lane::select(m, a.y, b.y), lane::select(m, a.z, b.z)};
+}
+
+/// Lane-generic triangle part of surface_at: the same operations, in the same
+/// order, for one float or a SIMD batch.
+template <class T>
+struct TriangleSurfaceT {
+  Vec3T<T> p, ng, ns, raw_ns;
+  T offset;
+  lane::mask_t<T> front;
+};
+
+template <class T>
+inline TriangleSurfaceT<T> triangle_surface(const Vec3T<T>& p0, const Vec3T<T>& p1, const Vec3T<T>& p2,
+                                            const Vec3T<T>& n0, const Vec3T<T>& n1, const Vec3T<T>& n2, T u, T v,
+                                            const Vec3T<T>& dir) {
+  TriangleSurfaceT<T> s;
+  T w = T(1.0f) - u - v;
+  auto interpolate = [&](const Vec3T<T>& a, const Vec3T<T>& b, const Vec3T<T>& c) {
+    return Vec3T<T>{a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v, a.z * w + b.z * u + c.z * v};
+  };
+  auto unit_or = [](const Vec3T<T>& a, const Vec3T<T>& fallback) {
+    T len = lane::sqrt(dot3(a, a));
+    return select3(len > T(0.0f), scale3(a, T(1.0f) / len), fallback);
+  };
+  s.p = interpolate(p0, p1, p2);
+  Vec3T<T> e1{p1.x - p0.x, p1.y - p0.y, p1.z - p0.z}, e2{p2.x - p0.x, p2.y - p0.y, p2.z - p0.z};
+  Vec3T<T> ng = unit_or({e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x},
+                        {T(0.0f), T(1.0f), T(0.0f)});
+  s.raw_ns = unit_or(interpolate(n0, n1, n2), ng);
+  auto max_abs = [](const Vec3T<T>& a) { return lane::max(lane::abs(a.x), lane::max(lane::abs(a.y), lane::abs(a.z))); };
+  s.offset = lane::max(lane::max(max_abs(p0), max_abs(p1)), max_abs(p2)) * T(kOffsetScale);
+  s.front = dot3(dir, ng) < T(0.0f);
+  s.ng = select3(s.front, ng, Vec3T<T>{-ng.x, -ng.y, -ng.z});
+  Vec3T<T> ns = select3(s.front, s.raw_ns, Vec3T<T>{-s.raw_ns.x, -s.raw_ns.y, -s.raw_ns.z});
+  s.ns = select3(dot3(ns, s.ng) < T(0.0f), s.ng, ns);
+  return s;
+}
+
+/// Origin for a ray leaving a surface at p (normal ng, offset) in direction dir.
+template <class T>
+inline Vec3T<T> offset_origin(const Vec3T<T>& p, const Vec3T<T>& ng, T offset, const Vec3T<T>& dir) {
+  T d = lane::select(dot3(dir, ng) >= T(0.0f), offset, -offset);
+  return {p.x + ng.x * d, p.y + ng.y * d, p.z + ng.z * d};
+}
+
+inline Vec3T<float> vec3t(const float3& a) { return {a.x, a.y, a.z}; }
+inline float3 to_float3(const Vec3T<float>& v) { return {v.x, v.y, v.z}; }
+
 inline SurfacePoint surface_at(const Scene& s, const Ray& ray, const Hit& hit) {
   SurfacePoint sp;
-  float3 ng;
   if (hit.is_sphere()) {
     const Sphere& sph = s.spheres[hit.index()];
     float3 p = ray.org + ray.dir * hit.t;
     float3 d = p - sph.center;
     float len = length(d);
-    ng = len > 0.0f ? d / len : float3{0.0f, 1.0f, 0.0f};
+    float3 ng = len > 0.0f ? d / len : float3{0.0f, 1.0f, 0.0f};
     sp.p = sph.center + ng * sph.radius;  // reproject onto the sphere
     sp.raw_ns = ng;
     sp.offset = (max_component(abs(sph.center)) + sph.radius) * kOffsetScale;
     sp.material = sph.material;
-  } else {
-    const TriangleIndices& t = s.triangles[hit.index()];
-    const float3 &p0 = s.positions[t.v0], &p1 = s.positions[t.v1], &p2 = s.positions[t.v2];
-    float w = 1.0f - hit.u - hit.v;
-    sp.p = p0 * w + p1 * hit.u + p2 * hit.v;
-    ng = cross(p1 - p0, p2 - p0);
-    float len = length(ng);
-    ng = len > 0.0f ? ng / len : float3{0.0f, 1.0f, 0.0f};
-    float3 n = s.normals[t.v0] * w + s.normals[t.v1] * hit.u + s.normals[t.v2] * hit.v;
-    float nlen = length(n);
-    sp.raw_ns = nlen > 0.0f ? n / nlen : ng;
-    sp.offset = max_component(max(max(abs(p0), abs(p1)), abs(p2))) * kOffsetScale;
-    sp.material = s.triangle_material[hit.index()];
+    sp.front = dot(ray.dir, ng) < 0.0f;
+    sp.ng = sp.front ? ng : -ng;
+    sp.ns = sp.ng;
+    return sp;
   }
-  sp.front = dot(ray.dir, ng) < 0.0f;
-  sp.ng = sp.front ? ng : -ng;
-  sp.ns = sp.front ? sp.raw_ns : -sp.raw_ns;
-  if (dot(sp.ns, sp.ng) < 0.0f) sp.ns = sp.ng;  // shading normal from the other side: use the true one
+  const TriangleIndices& t = s.triangles[hit.index()];
+  TriangleSurfaceT<float> ts = triangle_surface<float>(
+      vec3t(s.positions[t.v0]), vec3t(s.positions[t.v1]), vec3t(s.positions[t.v2]), vec3t(s.normals[t.v0]),
+      vec3t(s.normals[t.v1]), vec3t(s.normals[t.v2]), hit.u, hit.v, vec3t(ray.dir));
+  sp.p = to_float3(ts.p);
+  sp.ng = to_float3(ts.ng);
+  sp.ns = to_float3(ts.ns);
+  sp.raw_ns = to_float3(ts.raw_ns);
+  sp.offset = ts.offset;
+  sp.front = ts.front;
+  sp.material = s.triangle_material[hit.index()];
   return sp;
 }
 
 /// Origin for a ray leaving the surface in direction `dir`.
 inline float3 offset_origin(const SurfacePoint& sp, const float3& dir) {
-  return sp.p + sp.ng * (dot(dir, sp.ng) >= 0.0f ? sp.offset : -sp.offset);
+  return to_float3(offset_origin<float>(vec3t(sp.p), vec3t(sp.ng), sp.offset, vec3t(dir)));
 }
 
 /// Radiance the surface emits towards the ray's origin.

@@ -1,0 +1,66 @@
+// Structure-of-arrays streams whose fields are declared once, as an X-macro
+// list, and expanded into 64-byte-aligned arrays (padded to the SIMD lane
+// count, so kernels never mask tails), a one-item view struct, and get / set /
+// push. Every queue and the path state are built with PT_SOA_STREAM.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "kernels/simd.h"
+
+namespace pt::wf {
+
+template <class T>
+struct AlignedAllocator {
+  using value_type = T;
+  AlignedAllocator() = default;
+  template <class U> AlignedAllocator(const AlignedAllocator<U>&) {}
+  T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64})); }
+  void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t{64}); }
+  template <class U> bool operator==(const AlignedAllocator<U>&) const { return true; }
+};
+
+template <class T> using AlignedVector = std::vector<T, AlignedAllocator<T>>;
+
+inline size_t round_up_to_lanes(size_t n) { return (n + kLanes - 1) / kLanes * kLanes; }
+
+}  // namespace pt::wf
+
+#define PT_SOA_ARRAY(type, name) ::pt::wf::AlignedVector<type> name;
+#define PT_SOA_ITEM_FIELD(type, name) type name;
+#define PT_SOA_RESIZE(type, name) name.assign(n, type{});
+#define PT_SOA_BYTES(type, name) +name.capacity() * sizeof(type)
+#define PT_SOA_GET(type, name) item.name = name[i];
+#define PT_SOA_SET(type, name) name[i] = item.name;
+
+/// Declares, inside a struct, the arrays of FIELDS, `Item` (one element as
+/// plain fields), size/capacity, reserve(), clear(), get(), set(), push().
+#define PT_SOA_STREAM(FIELDS)                                                        \
+  FIELDS(PT_SOA_ARRAY)                                                               \
+  struct Item {                                                                      \
+    FIELDS(PT_SOA_ITEM_FIELD)                                                        \
+  };                                                                                 \
+  size_t size = 0;                                                                   \
+  size_t capacity = 0;                                                               \
+  /** Room for n items; arrays are padded to whole SIMD batches. */                  \
+  void reserve(size_t n_items) {                                                     \
+    size_t n = ::pt::wf::round_up_to_lanes(n_items);                                 \
+    if (n > capacity) {                                                              \
+      FIELDS(PT_SOA_RESIZE)                                                          \
+      capacity = n;                                                                  \
+    }                                                                                \
+  }                                                                                  \
+  void clear() { size = 0; }                                                         \
+  Item get(size_t i) const {                                                         \
+    Item item;                                                                       \
+    FIELDS(PT_SOA_GET)                                                               \
+    return item;                                                                     \
+  }                                                                                  \
+  void set(size_t i, const Item& item) { FIELDS(PT_SOA_SET) }                        \
+  /** Appends; the caller reserved enough room. */                                   \
+  void push(const Item& item) { set(size++, item); }                                 \
+  size_t bytes() const { return 0 FIELDS(PT_SOA_BYTES); }

@@ -1,0 +1,56 @@
+// The wavefront's streams. Long-lived per-path state (PathState) is kept apart
+// from the short-lived queues that stages pass to each other; queue items
+// carry the index of their path.
+#pragma once
+
+#include "kernels/ray.h"
+#include "soa.h"
+
+namespace pt::wf {
+
+/// 36 bytes per path: identity, random key, throughput and radiance so far.
+#define PT_PATH_FIELDS(X)                                                         \
+  X(uint32_t, pixel) X(uint32_t, sample) X(uint32_t, key)                         \
+  X(float, beta_r) X(float, beta_g) X(float, beta_b)                              \
+  X(float, radiance_r) X(float, radiance_g) X(float, radiance_b)
+struct PathState {
+  PT_SOA_STREAM(PT_PATH_FIELDS)
+  void add_radiance(uint32_t path, float r, float g, float b) {
+    radiance_r[path] += r;
+    radiance_g[path] += g;
+    radiance_b[path] += b;
+  }
+};
+
+/// 36 bytes per ray: closest-hit query of one path.
+#define PT_RAY_FIELDS(X)                                                           \
+  X(float, org_x) X(float, org_y) X(float, org_z) X(float, tmin)                   \
+  X(float, dir_x) X(float, dir_y) X(float, dir_z) X(float, tmax) X(uint32_t, path)
+struct RayQueue {
+  PT_SOA_STREAM(PT_RAY_FIELDS)
+  Ray ray(size_t i) const {
+    return {{org_x[i], org_y[i], org_z[i]}, tmin[i], {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]};
+  }
+};
+
+/// 16 bytes per hit, parallel to a RayQueue (prim == kInvalidId: miss).
+#define PT_HIT_FIELDS(X) X(float, t) X(float, u) X(float, v) X(uint32_t, prim)
+struct HitQueue {
+  PT_SOA_STREAM(PT_HIT_FIELDS)
+};
+
+/// 44 bytes per shadow ray: an occlusion query and the radiance it adds to
+/// its path when nothing blocks it. Also used for hemisphere-sampling rays,
+/// where the weight multiplies whatever emission the ray finds.
+#define PT_SHADOW_FIELDS(X)                                                        \
+  X(float, org_x) X(float, org_y) X(float, org_z)                                  \
+  X(float, dir_x) X(float, dir_y) X(float, dir_z) X(float, tmax) X(uint32_t, path) \
+  X(float, weight_r) X(float, weight_g) X(float, weight_b)
+struct ShadowQueue {
+  PT_SOA_STREAM(PT_SHADOW_FIELDS)
+  Ray ray(size_t i) const {
+    return {{org_x[i], org_y[i], org_z[i]}, 0.0f, {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]};
+  }
+};
+
+}  // namespace pt::wf
