@@ -16,8 +16,8 @@ inline void tangent_frame(T nx, T ny, T nz, Vec3T<T>& t, Vec3T<T>& b) {
   T s = lane::sign_of(nz);
   T a = T(-1.0f) / (s + nz);
   T c = nx * ny * a;
-  t = {T(1.0f) + s * nx * nx * a, s * c, -s * nx};
-  b = {c, s + ny * ny * a, -ny};
+  t = {T(1.0f) + s * nx * nx * a, s * c, lane::neg(s) * nx};
+  b = {c, s + ny * ny * a, lane::neg(ny)};
 }
 
 /// Local direction (lx, ly, lz) around normal n expressed in world space.

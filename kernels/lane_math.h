@@ -38,6 +38,12 @@ template <class T> inline void sincos(T x, T& s, T& c) {
   if constexpr (is_scalar_v<T>) { s = std::sin(x); c = std::cos(x); }
   else { auto sc = xsimd::sincos(x); s = sc.first; c = sc.second; }
 }
+/// -a with the sign bit flipped, also for zeros (xsimd's unary minus on a
+/// batch computes 0 - a, which turns -0 into +0 unlike scalar negation).
+template <class T> inline T neg(T a) {
+  if constexpr (is_scalar_v<T>) return -a; else return a ^ T(-0.0f);
+}
+
 template <class T> inline T floor(T a) {
   if constexpr (is_scalar_v<T>) return std::floor(a); else return xsimd::floor(a);
 }
@@ -58,8 +64,8 @@ template <class T> inline void sincos_2pi(T u, T& s, T& c) {
   mask_t<T> neg_s = q_mod4 >= T(2.0f);
   mask_t<T> neg_c = (q_mod4 == T(1.0f)) || (q_mod4 == T(2.0f));
   T s0 = select(odd, cs, sn), c0 = select(odd, sn, cs);
-  s = select(neg_s, -s0, s0);
-  c = select(neg_c, -c0, c0);
+  s = select(neg_s, neg(s0), s0);
+  c = select(neg_c, neg(c0), c0);
 }
 
 /// +1 or -1 with the sign bit of x (so -0 gives -1).

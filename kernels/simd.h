@@ -40,6 +40,28 @@ inline uint64_t bitmask(vboolK m) {
 #endif
 }
 
+using vbooluK = xsimd::batch_bool<uint32_t>;
+using vbooliK = xsimd::batch_bool<int32_t>;
+
+/// A K-wide integer comparison's result as a float mask.
+template <class M> inline vboolK as_float_mask(M m) {
+#if defined(__AVX512F__)
+  return vboolK(static_cast<__mmask16>(m));
+#else
+  using I = typename M::value_type;
+  return xsimd::bitwise_cast<vfloatK>(xsimd::select(m, xsimd::batch<I>(I(~0u)), xsimd::batch<I>(I(0)))) != vfloatK(0.0f);
+#endif
+}
+
+/// A K-wide float mask as an int32 mask.
+inline vbooliK as_int_mask(vboolK m) {
+#if defined(__AVX512F__)
+  return vbooliK(static_cast<__mmask16>(m));
+#else
+  return xsimd::bitwise_cast<vintK>(xsimd::select(m, vfloatK(-1.0f), vfloatK(0.0f))) != vintK(0);
+#endif
+}
+
 /// Lane indices 0, 1, ..., K-1.
 inline vintK lane_index() {
   alignas(64) int32_t idx[kLanes];

@@ -66,8 +66,8 @@ inline TriangleSurfaceT<T> triangle_surface(const Vec3T<T>& p0, const Vec3T<T>& 
   auto max_abs = [](const Vec3T<T>& a) { return lane::max(lane::abs(a.x), lane::max(lane::abs(a.y), lane::abs(a.z))); };
   s.offset = lane::max(lane::max(max_abs(p0), max_abs(p1)), max_abs(p2)) * T(kOffsetScale);
   s.front = dot3(dir, ng) < T(0.0f);
-  s.ng = select3(s.front, ng, Vec3T<T>{-ng.x, -ng.y, -ng.z});
-  Vec3T<T> ns = select3(s.front, s.raw_ns, Vec3T<T>{-s.raw_ns.x, -s.raw_ns.y, -s.raw_ns.z});
+  s.ng = select3(s.front, ng, Vec3T<T>{lane::neg(ng.x), lane::neg(ng.y), lane::neg(ng.z)});
+  Vec3T<T> ns = select3(s.front, s.raw_ns, Vec3T<T>{lane::neg(s.raw_ns.x), lane::neg(s.raw_ns.y), lane::neg(s.raw_ns.z)});
   s.ns = select3(dot3(ns, s.ng) < T(0.0f), s.ng, ns);
   return s;
 }
@@ -75,7 +75,7 @@ inline TriangleSurfaceT<T> triangle_surface(const Vec3T<T>& p0, const Vec3T<T>& 
 /// Origin for a ray leaving a surface at p (normal ng, offset) in direction dir.
 template <class T>
 inline Vec3T<T> offset_origin(const Vec3T<T>& p, const Vec3T<T>& ng, T offset, const Vec3T<T>& dir) {
-  T d = lane::select(dot3(dir, ng) >= T(0.0f), offset, -offset);
+  T d = lane::select(dot3(dir, ng) >= T(0.0f), offset, lane::neg(offset));
   return {p.x + ng.x * d, p.y + ng.y * d, p.z + ng.z * d};
 }
 

@@ -99,10 +99,8 @@ float3 ReferenceIntegrator::radiance(const Ray& camera_ray, uint32_t key, Render
 
     // Continue the path: Russian roulette after the first indirect bounce,
     // then a cosine-weighted bounce (f cos / pdf = albedo).
-    if (vertex >= 2) {
-      if (random_uniform(key, vertex, dims::kRoulette) >= rs_.rr_continue) break;
-      beta = beta / rs_.rr_continue;
-    }
+    const bool roulette = vertex >= 2;
+    if (roulette && random_uniform(key, vertex, dims::kRoulette) >= rs_.rr_continue) break;
     const float3 albedo = scene_.materials[sp.material].albedo;
     if (is_black(albedo)) break;
     float3 local = to_float3(sample_cosine_hemisphere(random_uniform(key, vertex, dims::kBsdf),
@@ -110,6 +108,7 @@ float3 ReferenceIntegrator::radiance(const Ray& camera_ray, uint32_t key, Render
     float3 wi = to_world(sp.ns, local);
     if (dot(wi, sp.ng) <= 0.0f) break;
     beta = beta * albedo;
+    if (roulette) beta = beta / rs_.rr_continue;
     ray = Ray{offset_origin(sp, wi), 0.0f, wi, kInfinity};
     ++stats.bounce_rays;
     if (!accel_.intersect(ray, hit, stats.intersection_tests)) break;  // the sky was counted as direct light

@@ -1,0 +1,73 @@
+// fetch_surfaces: gathers and the sphere patch.
+#include "fetch_surfaces.h"
+
+#include "kernels/surface.h"
+
+namespace pt::wf {
+namespace {
+
+Vec3T<vfloatK> gather3(const float* f, vintK index) {
+  vintK i3 = index * vintK(3);
+  return {vfloatK::gather(f, i3), vfloatK::gather(f, i3 + vintK(1)), vfloatK::gather(f, i3 + vintK(2))};
+}
+
+/// Overwrites the sphere lanes with the scalar reconstruction.
+void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0, uint64_t lanes,
+                   SurfaceBatch& s) {
+  alignas(64) float f[10][kLanes];
+  alignas(64) int32_t material[kLanes];
+  Vec3T<vfloatK>* vecs[3] = {&s.p, &s.ng, &s.ns};
+  for (int v = 0; v < 3; ++v) {
+    vecs[v]->x.store_aligned(f[3 * v]);
+    vecs[v]->y.store_aligned(f[3 * v + 1]);
+    vecs[v]->z.store_aligned(f[3 * v + 2]);
+  }
+  s.offset.store_aligned(f[9]);
+  s.material.store_aligned(material);
+  for (; lanes; lanes &= lanes - 1) {
+    size_t lane = static_cast<size_t>(__builtin_ctzll(lanes)), i = i0 + lane;
+    SurfacePoint sp = surface_at(ctx.scene, rays.ray(i), Hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
+    const float3* src[3] = {&sp.p, &sp.ng, &sp.ns};
+    for (int v = 0; v < 3; ++v)
+      for (int c = 0; c < 3; ++c) f[3 * v + c][lane] = (*src[v])[c];
+    f[9][lane] = sp.offset;
+    material[lane] = static_cast<int32_t>(sp.material);
+  }
+  for (int v = 0; v < 3; ++v)
+    *vecs[v] = {vfloatK::load_aligned(f[3 * v]), vfloatK::load_aligned(f[3 * v + 1]), vfloatK::load_aligned(f[3 * v + 2])};
+  s.offset = vfloatK::load_aligned(f[9]);
+  s.material = vintK::load_aligned(material);
+}
+
+}  // namespace
+
+SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0) {
+  const TriangleArrays& tris = ctx.triangles;
+  SurfaceBatch s;
+  vuintK prim = vuintK::load_aligned(&hits.prim[i0]);
+  s.valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(rays.size - i0));
+  vboolK hit = s.valid && as_float_mask(prim != vuintK(kInvalidId));
+  vboolK sphere = hit && as_float_mask((prim & vuintK(Hit::kSphereBit)) != vuintK(0u));
+  vboolK triangle = hit && !sphere;
+  s.hit = hit;
+
+  vintK tri = xsimd::select(as_int_mask(triangle), xsimd::bitwise_cast<vintK>(prim), vintK(0));
+  vintK t3 = tri * vintK(3);
+  vintK v0 = vintK::gather(tris.indices, t3), v1 = vintK::gather(tris.indices, t3 + vintK(1)),
+        v2 = vintK::gather(tris.indices, t3 + vintK(2));
+  Vec3T<vfloatK> dir{vfloatK::load_aligned(&rays.dir_x[i0]), vfloatK::load_aligned(&rays.dir_y[i0]),
+                     vfloatK::load_aligned(&rays.dir_z[i0])};
+  TriangleSurfaceT<vfloatK> ts = triangle_surface<vfloatK>(
+      gather3(tris.positions, v0), gather3(tris.positions, v1), gather3(tris.positions, v2),
+      gather3(tris.normals, v0), gather3(tris.normals, v1), gather3(tris.normals, v2),
+      vfloatK::load_aligned(&hits.u[i0]), vfloatK::load_aligned(&hits.v[i0]), dir);
+  s.p = ts.p;
+  s.ng = ts.ng;
+  s.ns = ts.ns;
+  s.offset = ts.offset;
+  s.material = vintK::gather(tris.material, tri);
+  if (uint64_t sphere_lanes = bitmask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
+  return s;
+}
+
+}  // namespace pt::wf

@@ -1,0 +1,26 @@
+// Rebuilds the surfaces of K hits at once from the scene arrays (SIMD gathers
+// of triangle vertices and normals, then the shared triangle_surface math);
+// the rare sphere lanes are patched with the scalar surface_at.
+#pragma once
+
+#include <cstddef>
+
+#include "kernels/frame.h"
+#include "kernels/simd.h"
+#include "streams.h"
+#include "wave_context.h"
+
+namespace pt::wf {
+
+struct SurfaceBatch {
+  Vec3T<vfloatK> p, ng, ns;  ///< ng, ns turned towards the incoming ray
+  vfloatK offset;            ///< origin offset along ng
+  vintK material;
+  vboolK hit;                ///< lane holds a surface (a valid ray that hit)
+  vboolK valid;              ///< lane holds a ray of the queue
+};
+
+/// Surfaces of rays [i0, i0 + K) of `rays` with their `hits`.
+SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0);
+
+}  // namespace pt::wf

@@ -1,0 +1,92 @@
+// The pass loop shared by the wavefront and megakernel engines: pixels in
+// tile order, passes of samples (kernels/sample_schedule.h), chunks of pixels
+// spread over oneTBB threads, per-pixel accumulators in sample order, the
+// adaptive test between passes, progress and cancellation.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <span>
+#include <vector>
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "kernels/pixel_accumulator.h"
+#include "kernels/render_job.h"
+#include "kernels/sample_schedule.h"
+
+namespace pt::wf {
+
+/// Accumulated state of a pass-based render (what a checkpoint saves).
+struct Accumulation {
+  std::vector<PixelAccumulator> pixels;  ///< width * height
+  uint32_t samples_done = 0;             ///< passes completed, in samples per active pixel
+};
+
+/// Film of the accumulated means and sample counts.
+inline Film film_from(const Accumulation& acc, const RenderSettings& rs) {
+  Film film(rs.width, rs.height, static_cast<uint32_t>(rs.samples_per_pixel));
+  for (size_t i = 0; i < acc.pixels.size(); ++i) {
+    film.radiance[i] = acc.pixels[i].mean();
+    film.samples[i] = acc.pixels[i].samples;
+  }
+  return film;
+}
+
+/// Pixels that still take samples after `acc.samples_done` samples.
+inline std::vector<uint32_t> active_pixels(const Accumulation& acc, const RenderSettings& rs) {
+  std::vector<uint32_t> active;
+  for (uint32_t p : tiled_pixel_order(rs))
+    if (!acc.pixels[p].converged) active.push_back(p);
+  return active;
+}
+
+/// Runs passes until done or cancelled. `chunk(pixels, first_sample, samples,
+/// accumulators, stats)` renders samples [first, first + samples) of each
+/// pixel in `pixels` and adds them, in order, to accumulators[pixel]; it is
+/// called concurrently for disjoint pixel sets. `on_pass` runs after each pass.
+template <class Chunk, class OnPass>
+void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderControl& control, Accumulation& acc,
+                RenderStats& total, Chunk&& chunk, OnPass&& on_pass) {
+  std::vector<uint32_t> active = active_pixels(acc, rs);
+  const double total_samples = double(active.size()) * rs.samples_per_pixel;
+  std::atomic<uint64_t> samples_finished{0};
+  tbb::enumerable_thread_specific<RenderStats> thread_stats;
+  tbb::task_arena arena(std::max(1, rs.threads));
+
+  while (uint32_t len = pass_length(rs, acc.samples_done)) {
+    if (active.empty() || control.cancelled()) break;
+    const size_t per_chunk = std::max<size_t>(1, paths_per_chunk / len);
+    const size_t chunks = (active.size() + per_chunk - 1) / per_chunk;
+    std::atomic<bool> complete{true};
+    arena.execute([&] {
+      tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        if (control.cancelled()) {
+          complete = false;
+          return;
+        }
+        size_t begin = c * per_chunk, end = std::min(active.size(), begin + per_chunk);
+        std::span<const uint32_t> pixels(active.data() + begin, end - begin);
+        chunk(pixels, acc.samples_done, len, acc.pixels, thread_stats.local());
+        uint64_t done = samples_finished.fetch_add(pixels.size() * len) + pixels.size() * len;
+        if (control.progress) control.progress(std::min(1.0, done / total_samples));
+      });
+    });
+    if (!complete) break;
+    acc.samples_done += len;
+    if (adaptive_check_due(rs, acc.samples_done)) {
+      std::erase_if(active, [&](uint32_t p) {
+        PixelAccumulator& a = acc.pixels[p];
+        a.converged = pixel_converged(a.moments, a.samples, rs.adaptive_tolerance) ? 1 : 0;
+        return a.converged != 0;
+      });
+    }
+    on_pass(acc);
+  }
+  for (const RenderStats& s : thread_stats) total += s;
+}
+
+}  // namespace pt::wf

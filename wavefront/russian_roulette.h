@@ -1,0 +1,17 @@
+// Stage 5: Russian roulette and compaction. From the second bounce on, each
+// continuation survives with probability rr_continue (its throughput divided
+// by it); survivors are written, in order, to the next depth's ray queue.
+#pragma once
+
+#include <cstdint>
+
+#include "streams.h"
+#include "wave_context.h"
+
+namespace pt::wf {
+
+/// `vertex` = the path vertex the candidates leave from (>= 1).
+void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, PathState& paths,
+                      RayQueue& next);
+
+}  // namespace pt::wf

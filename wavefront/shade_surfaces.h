@@ -1,0 +1,28 @@
+// Stage 3: shade the surfaces a ray queue reached, SIMD across rays. Adds
+// emission where it counts, samples direct light (pushing shadow rays, or
+// hemisphere rays with -H), and samples the BSDF for the next bounce (pushing
+// continuation candidates that Russian roulette then filters).
+#pragma once
+
+#include <cstdint>
+
+#include "streams.h"
+#include "wave_context.h"
+
+namespace pt::wf {
+
+struct ShadeOutputs {
+  ShadowQueue& shadows;      ///< occlusion rays of light sampling
+  ShadowQueue& hemisphere;   ///< closest-hit rays of hemisphere sampling (-H)
+  RayQueue& continuations;   ///< next-bounce candidates, before roulette
+};
+
+/// `depth` = bounces the rays of `rays` have made (0: camera rays); the
+/// surfaces they hit are path vertex depth + 1.
+void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits,
+                    PathState& paths, ShadeOutputs out);
+
+/// Normal shading: radiance = shading normal * 0.5 + 0.5 at the hit.
+void shade_normals(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, PathState& paths);
+
+}  // namespace pt::wf

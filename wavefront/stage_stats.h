@@ -1,0 +1,50 @@
+// Per-thread statistics of the wavefront: time per stage, rays by type,
+// primitive tests, and how many paths are alive at each depth.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <vector>
+
+namespace pt::wf {
+
+enum class Stage : int { kGenerate, kIntersect, kShade, kShadow, kRoulette, kAccumulate, kCount };
+inline constexpr const char* kStageNames[] = {"generate_camera_rays", "intersect_closest", "shade_surfaces",
+                                              "trace_shadow_rays", "russian_roulette", "accumulate"};
+
+struct StageStats {
+  std::array<double, static_cast<int>(Stage::kCount)> seconds{};
+  uint64_t camera_rays = 0, bounce_rays = 0, shadow_rays = 0;
+  uint64_t primitive_tests = 0;
+  std::vector<uint64_t> paths_alive;  ///< index = depth (0 = camera rays)
+
+  void count_alive(uint32_t depth, uint64_t n) {
+    if (paths_alive.size() <= depth) paths_alive.resize(depth + 1, 0);
+    paths_alive[depth] += n;
+  }
+  StageStats& operator+=(const StageStats& o) {
+    for (size_t i = 0; i < seconds.size(); ++i) seconds[i] += o.seconds[i];
+    camera_rays += o.camera_rays; bounce_rays += o.bounce_rays; shadow_rays += o.shadow_rays;
+    primitive_tests += o.primitive_tests;
+    for (size_t d = 0; d < o.paths_alive.size(); ++d) count_alive(static_cast<uint32_t>(d), o.paths_alive[d]);
+    return *this;
+  }
+};
+
+/// Adds the scope's wall time to one stage.
+class StageTimer {
+ public:
+  StageTimer(StageStats& s, Stage stage) : stats_(s), stage_(stage), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() {
+    stats_.seconds[static_cast<int>(stage_)] +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  StageStats& stats_;
+  Stage stage_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace pt::wf

@@ -1,0 +1,47 @@
+// Read-only data every stage of a wave sees: the scene, its materials as SoA
+// arrays for SIMD gathers, the camera and the settings, plus the light-sample
+// layout that decides which random dimensions each light sample uses.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/camera.h"
+#include "kernels/render_settings.h"
+#include "kernels/scene.h"
+#include "soa.h"
+
+namespace pt::wf {
+
+/// Materials as SoA for gathers; one entry per scene material.
+struct MaterialArrays {
+  AlignedVector<float> albedo_r, albedo_g, albedo_b;
+  AlignedVector<int32_t> emits;  ///< 1 if the material has emission
+
+  explicit MaterialArrays(const Scene& s);
+};
+
+/// Triangle data as raw arrays for gathers. Never null: an empty scene points
+/// at one zeroed dummy triangle so that masked-off gather lanes stay in bounds.
+struct TriangleArrays {
+  const int32_t* indices;    ///< 3 per triangle
+  const float* positions;    ///< 3 per vertex
+  const float* normals;      ///< 3 per vertex
+  const int32_t* material;   ///< 1 per triangle
+
+  explicit TriangleArrays(const Scene& s);
+};
+
+struct WaveContext {
+  const Scene& scene;
+  TriangleArrays triangles;
+  const Camera& camera;
+  const RenderSettings& settings;
+  MaterialArrays materials;
+  uint32_t shadow_rays_per_vertex;  ///< upper bound, for queue sizes
+  bool sky_visible;                 ///< escaped rays see the sky
+
+  WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs);
+};
+
+}  // namespace pt::wf

@@ -1,0 +1,59 @@
+// The wavefront engine: paths in waves of SoA queues through separate stages
+// (run_wave.h), waves spread over threads, passes and accumulation shared
+// with the megakernel (pass_driver.h).
+#pragma once
+
+#include <cstddef>
+
+#include "kernels/render_job.h"
+#include "pass_driver.h"
+#include "run_wave.h"
+
+namespace pt::wf {
+
+struct WavefrontOptions {
+  size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
+};
+
+/// Renders with `tracer` (intersect / occluded with a test counter). If
+/// `stage_stats` is given, it receives the per-stage statistics.
+template <class Tracer>
+RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const RenderSettings& rs, const Tracer& tracer,
+                              const WavefrontOptions& options = {}, const RenderControl& control = {},
+                              StageStats* stage_stats = nullptr) {
+  auto start = std::chrono::steady_clock::now();
+  WaveContext ctx(scene, camera, rs);
+  tbb::enumerable_thread_specific<WaveBuffers> buffers;
+  tbb::enumerable_thread_specific<StageStats> stages;
+  Accumulation acc;
+  acc.pixels.resize(size_t(rs.width) * rs.height);
+  RenderOutput out;
+
+  auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, std::vector<PixelAccumulator>& px,
+                   RenderStats& stats) {
+    WaveBuffers& b = buffers.local();
+    StageStats& ss = stages.local();
+    run_wave(ctx, tracer, pixels, first, len, b, ss);
+    StageTimer t(ss, Stage::kAccumulate);
+    for (size_t i = 0; i < b.paths.size; ++i) {
+      float3 L{b.paths.radiance_r[i], b.paths.radiance_g[i], b.paths.radiance_b[i]};
+      if (!px[pixels[i / len]].add(L)) ++stats.invalid_samples;
+    }
+    stats.samples += b.paths.size;
+  };
+  run_passes(rs, options.wave_paths, control, acc, out.stats, chunk, [](const Accumulation&) {});
+
+  StageStats all;
+  for (const StageStats& s : stages) all += s;
+  out.stats.camera_rays = all.camera_rays;
+  out.stats.bounce_rays = all.bounce_rays;
+  out.stats.shadow_rays = all.shadow_rays;
+  out.stats.intersection_tests = all.primitive_tests;
+  if (stage_stats) *stage_stats = all;
+  out.film = film_from(acc, rs);
+  out.cancelled = control.cancelled();
+  out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace pt::wf
