@@ -2,6 +2,9 @@
 #include "engines_under_test.h"
 
 #include "tests/reference/reference_renderer.h"
+#include "wavefront/megakernel_renderer.h"
+#include "wavefront/tracers.h"
+#include "wavefront/wavefront_renderer.h"
 
 namespace pt::test {
 
@@ -9,6 +12,16 @@ const std::vector<EngineUnderTest>& engines_under_test() {
   static const std::vector<EngineUnderTest> engines = {
       {"reference",
        [](const Scene& s, const Camera& c, const RenderSettings& rs) { return reference::render_reference(s, c, rs); }},
+      {"wavefront",
+       [](const Scene& s, const Camera& c, const RenderSettings& rs) {
+         reference::ReferenceAccel accel(s, reference::AccelMode::kBvh);
+         return wf::render_wavefront(s, c, rs, wf::Bvh2Tracer{accel});
+       }},
+      {"megakernel",
+       [](const Scene& s, const Camera& c, const RenderSettings& rs) {
+         reference::ReferenceAccel accel(s, reference::AccelMode::kBvh);
+         return wf::render_megakernel(s, c, rs, wf::Bvh2Tracer{accel});
+       }},
   };
   return engines;
 }

@@ -3,6 +3,7 @@
 
 #include "io/scene_error.h"
 #include "tests/reference/reference_renderer.h"
+#include "wavefront/megakernel_renderer.h"
 #include "wavefront/tracers.h"
 #include "wavefront/wavefront_renderer.h"
 #include "stage_report.h"
@@ -29,8 +30,13 @@ RenderOutput render_with_engine(const Options& o, const Scene& scene, const Came
       if (o.stats) print_stage_stats(stages, out.stats);
       return out;
     }
-    case Engine::kMegakernel:
-      throw InputError(std::string("--engine ") + engine_name(o.engine) + " is not available yet");
+    case Engine::kMegakernel: {
+      if (o.accel == AccelChoice::kBvh4) throw InputError("--bvh bvh4 is not available yet; use bvh2");
+      reference::ReferenceAccel accel(scene, o.accel == AccelChoice::kNone ? reference::AccelMode::kBruteForce
+                                                                            : reference::AccelMode::kBvh,
+                                      o.max_leaf_size);
+      return wf::render_megakernel(scene, camera, o.settings, wf::Bvh2Tracer{accel}, control);
+    }
   }
   throw InputError("unknown engine");
 }

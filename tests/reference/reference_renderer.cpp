@@ -26,14 +26,14 @@ Region render_region(const RenderSettings& rs) {
 float3 reference_sample(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
                         const RenderSettings& rs, int x, int y, uint32_t sample, RenderStats& stats) {
   uint32_t key = path_key(rs.seed, pixel_index(rs, x, y), sample);
-  return ReferenceIntegrator(scene, accel, rs).radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats);
+  return ReferenceIntegrator<>(scene, accel, rs).radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats);
 }
 
 RenderOutput render_reference(const Scene& scene, const Camera& camera, const RenderSettings& rs,
                               const ReferenceOptions& options, const RenderControl& control) {
   auto start = std::chrono::steady_clock::now();
   ReferenceAccel accel(scene, options.accel, options.max_leaf_size);
-  ReferenceIntegrator integrator(scene, accel, rs);
+  ReferenceIntegrator<> integrator(scene, accel, rs);
   RenderOutput out;
   out.film = Film(rs.width, rs.height, static_cast<uint32_t>(rs.samples_per_pixel));
   Region region = render_region(rs);
