@@ -3,6 +3,7 @@
 // tolerance * mean. Checked only after whole batches.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -13,6 +14,13 @@ struct PixelMoments {
   double s1 = 0.0, s2 = 0.0;
   void add(double x) { s1 += x; s2 += x * x; }
 };
+
+/// Unbiased sample variance of the n samples, divided by n: the variance of
+/// their mean. 0 for n < 2.
+inline double variance_of_mean(const PixelMoments& m, uint32_t n) {
+  if (n < 2) return 0.0;
+  return std::max(0.0, (m.s2 - m.s1 * m.s1 / n) / (n - 1)) / n;
+}
 
 /// True when n > 1 samples with these moments meet the tolerance. A pixel of
 /// constant value (including black) has sigma = 0 and converges at once.

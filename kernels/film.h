@@ -14,10 +14,16 @@ struct Film {
   uint32_t max_samples = 0;        ///< the -s limit, for the sample-rate image
   std::vector<float3> radiance;    ///< linear RGB mean per pixel
   std::vector<uint32_t> samples;   ///< camera samples taken per pixel
+  std::vector<float> variance;     ///< variance of each pixel's mean illuminance (s^2 / n)
 
   Film() = default;
   Film(int w, int h, uint32_t max_spp)
-      : width(w), height(h), max_samples(max_spp), radiance(size_t(w) * h), samples(size_t(w) * h, 0) {}
+      : width(w),
+        height(h),
+        max_samples(max_spp),
+        radiance(size_t(w) * h),
+        samples(size_t(w) * h, 0),
+        variance(size_t(w) * h, 0.0f) {}
   size_t index(int x, int y) const { return size_t(y) * width + x; }
 };
 

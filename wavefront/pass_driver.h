@@ -32,6 +32,7 @@ inline Film film_from(const Accumulation& acc, const RenderSettings& rs) {
   for (size_t i = 0; i < acc.pixels.size(); ++i) {
     film.radiance[i] = acc.pixels[i].mean();
     film.samples[i] = acc.pixels[i].samples;
+    film.variance[i] = static_cast<float>(variance_of_mean(acc.pixels[i].moments, acc.pixels[i].samples));
   }
   return film;
 }

@@ -8,7 +8,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "kernels/adaptive.h"
+#include "kernels/pixel_accumulator.h"
 #include "kernels/camera_sample.h"
 #include "reference_integrator.h"
 
@@ -43,29 +43,20 @@ RenderOutput render_reference(const Scene& scene, const Camera& camera, const Re
   tbb::enumerable_thread_specific<RenderStats> thread_stats;
 
   auto render_pixel = [&](int x, int y, RenderStats& stats) {
-    uint32_t pixel = pixel_index(rs, x, y);
-    PixelMoments moments;
-    double sum[3] = {0, 0, 0};
-    uint32_t n = 0;
-    while (n < static_cast<uint32_t>(rs.samples_per_pixel)) {
-      uint32_t key = path_key(rs.seed, pixel, n);
-      float3 L = integrator.radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats);
-      if (!is_finite(L)) {
-        ++stats.invalid_samples;
-        L = float3{};
-      }
-      for (int c = 0; c < 3; ++c) sum[c] += L[c];
-      moments.add(illuminance(L));
-      ++n;
-      if (rs.adaptive() && n % static_cast<uint32_t>(rs.adaptive_batch) == 0 &&
-          pixel_converged(moments, n, rs.adaptive_tolerance))
+    const uint32_t pixel = pixel_index(rs, x, y);
+    PixelAccumulator acc;
+    while (acc.samples < static_cast<uint32_t>(rs.samples_per_pixel)) {
+      uint32_t key = path_key(rs.seed, pixel, acc.samples);
+      if (!acc.add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats))) ++stats.invalid_samples;
+      if (rs.adaptive() && acc.samples % static_cast<uint32_t>(rs.adaptive_batch) == 0 &&
+          pixel_converged(acc.moments, acc.samples, rs.adaptive_tolerance))
         break;
     }
-    stats.samples += n;
+    stats.samples += acc.samples;
     size_t i = out.film.index(x, y);
-    out.film.radiance[i] = float3(static_cast<float>(sum[0] / n), static_cast<float>(sum[1] / n),
-                                  static_cast<float>(sum[2] / n));
-    out.film.samples[i] = n;
+    out.film.radiance[i] = acc.mean();
+    out.film.samples[i] = acc.samples;
+    out.film.variance[i] = static_cast<float>(variance_of_mean(acc.moments, acc.samples));
   };
 
   tbb::task_arena arena(std::max(1, rs.threads));

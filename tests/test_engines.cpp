@@ -1,0 +1,216 @@
+// The SIMD engines against the scalar reference: with the same seed they must
+// draw the same random numbers and agree per pixel (paths may part only on
+// floating-point ties); with different seeds their images must agree within
+// noise (per-pixel z-tests, corrected for the number of pixels); and neither
+// thread count nor wave size may change an image.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+#include <gtest/gtest-spi.h>
+
+#include "engines_under_test.h"
+#include "io/camera_setup.h"
+#include "test_support.h"
+#include "tests/reference/reference_renderer.h"
+#include "wavefront/megakernel_renderer.h"
+#include "wavefront/tracers.h"
+#include "wavefront/wavefront_renderer.h"
+
+namespace pt {
+namespace {
+
+struct Mode {
+  const char* name;
+  void (*apply)(RenderSettings&);
+};
+
+const Mode kModes[] = {
+    {"light_sampling", [](RenderSettings& rs) { rs.max_depth = 4; rs.light_samples = 2; }},
+    {"hemisphere", [](RenderSettings& rs) { rs.max_depth = 3; rs.direct = DirectLighting::kHemisphere; }},
+    {"normals", [](RenderSettings& rs) { rs.shading = ShadingMode::kNormals; }},
+    {"only_bounce_2", [](RenderSettings& rs) { rs.max_depth = 2; rs.bounces = BounceMode::kOnlyBounceM; }},
+    {"direct_only", [](RenderSettings& rs) { rs.max_depth = 3; rs.bounces = BounceMode::kDirectOnly; }},
+    {"indirect_only", [](RenderSettings& rs) { rs.max_depth = 3; rs.bounces = BounceMode::kIndirectOnly; }},
+};
+
+RenderSettings small_settings(int spp, uint32_t seed) {
+  RenderSettings rs;
+  rs.width = 64;
+  rs.height = 48;
+  rs.samples_per_pixel = spp;
+  rs.adaptive_tolerance = 0.0f;
+  rs.threads = 2;
+  rs.seed = seed;
+  return rs;
+}
+
+/// Relative difference of two pixel values, with an absolute floor for near-black pixels.
+float pixel_difference(float3 a, float3 b) {
+  float d = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    float scale = std::max({std::fabs(a[c]), std::fabs(b[c]), 1e-4f});
+    d = std::max(d, std::fabs(a[c] - b[c]) / scale);
+  }
+  return d;
+}
+
+/// Fraction of pixels within 1e-3 relative; describes the worst ones in `report`.
+double agreement(const Film& a, const Film& b, std::string& report) {
+  std::vector<std::pair<float, size_t>> diffs;
+  size_t good = 0;
+  for (size_t i = 0; i < a.radiance.size(); ++i) {
+    float d = pixel_difference(a.radiance[i], b.radiance[i]);
+    good += d <= 1e-3f;
+    diffs.push_back({d, i});
+  }
+  std::partial_sort(diffs.begin(), diffs.begin() + 3, diffs.end(), std::greater<>());
+  std::ostringstream o;
+  for (int k = 0; k < 3; ++k) {
+    size_t i = diffs[k].second;
+    o << " (" << i % a.width << "," << i / a.width << ") rel " << diffs[k].first << ": " << a.radiance[i].x << " vs "
+      << b.radiance[i].x << ";";
+  }
+  report = o.str();
+  return double(good) / a.radiance.size();
+}
+
+std::vector<std::string> scenes_to_test() {
+  std::vector<std::string> paths = {test::project_scene("cornell_spheres.dae").string()};
+  if (test::shared_scenes_available())
+    for (const std::string& n : test::shared_scene_names()) paths.push_back(test::shared_scene(n).string());
+  return paths;
+}
+
+TEST(EngineAgreement, SameSeedSamePathsOnEverySceneAndMode) {
+  for (const std::string& path : scenes_to_test()) {
+    Scene scene = load_collada_file(path).scene;
+    for (const Mode& mode : kModes) {
+      RenderSettings rs = small_settings(2, 7);
+      mode.apply(rs);
+      Camera cam = resolve_camera(scene, rs.width, rs.height);
+      Film ref = test::engines_under_test()[0].render(scene, cam, rs).film;
+      for (size_t e = 1; e < test::engines_under_test().size(); ++e) {
+        const test::EngineUnderTest& engine = test::engines_under_test()[e];
+        Film film = engine.render(scene, cam, rs).film;
+        std::string worst;
+        double fraction = agreement(ref, film, worst);
+        EXPECT_GE(fraction, 0.995) << engine.name << " on " << path << " (" << mode.name << "); worst:" << worst;
+      }
+    }
+  }
+}
+
+/// Two renders with different seeds agree within noise: per pixel,
+/// z = (Y1 - Y2) / sqrt(var1 + var2) on illuminance, with var the variance of
+/// each pixel's mean. Under agreement, |z| > 3.29 has probability 0.001 (for
+/// near-normal means); the test passes when the number of such pixels stays
+/// below the binomial bound N * 0.001 + 5 sqrt(N * 0.001) (false alarm < 1e-6
+/// for independent pixels), and when no pixel exceeds |z| = 6.5 (Bonferroni at
+/// 1e-10 / N for the normal approximation; catches a single badly wrong pixel).
+/// A global bias too small to show in single pixels is caught by Stouffer's
+/// combined score Z = sum(z_i) / sqrt(N) over signed per-pixel scores, which
+/// is standard normal under agreement: |Z| must stay below 5 (p = 6e-7).
+void expect_statistically_equal(const Film& a, const Film& b, const std::string& what) {
+  size_t n = a.radiance.size(), over = 0, degenerate_mismatch = 0;
+  double worst_z = 0.0, sum_z = 0.0;
+  size_t scored = 0;
+  size_t worst = 0;
+  for (size_t i = 0; i < n; ++i) {
+    double ya = illuminance(a.radiance[i]), yb = illuminance(b.radiance[i]);
+    double var = double(a.variance[i]) + b.variance[i];
+    if (var <= 0.0) {
+      degenerate_mismatch += std::fabs(ya - yb) > 1e-6 * std::max(1.0, std::fabs(ya));
+      continue;
+    }
+    double signed_z = (ya - yb) / std::sqrt(var);
+    sum_z += signed_z;
+    ++scored;
+    double z = std::fabs(signed_z);
+    over += z > 3.29;
+    if (z > worst_z) { worst_z = z; worst = i; }
+  }
+  double bound = n * 0.001 + 5.0 * std::sqrt(n * 0.001);
+  EXPECT_LE(double(over), bound) << what << ": " << over << " of " << n << " pixels beyond |z| = 3.29";
+  EXPECT_LT(worst_z, 6.5) << what << ": pixel (" << worst % a.width << "," << worst / a.width << ") z = " << worst_z;
+  EXPECT_EQ(degenerate_mismatch, 0u) << what << ": noiseless pixels differ";
+  double z_image = scored ? std::fabs(sum_z) / std::sqrt(double(scored)) : 0.0;
+  EXPECT_LT(z_image, 5.0) << what << ": image means differ, Stouffer Z = " << z_image;
+  std::printf("  %s: %zu/%zu pixels beyond |z| = 3.29 (bound %.1f), max |z| %.2f, Stouffer Z %.2f\n", what.c_str(), over,
+              n, bound, worst_z, z_image);
+}
+
+TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
+  std::vector<std::string> scenes = {test::project_scene("cornell_spheres.dae").string()};
+  if (test::shared_scenes_available())
+    for (const char* n : {"CBspheres_lambertian.dae", "CBempty.dae", "CBbunny.dae", "bunny.dae", "banana.dae"})
+      scenes.push_back(test::shared_scene(n).string());
+  for (const std::string& path : scenes) {
+    Scene scene = load_collada_file(path).scene;
+    RenderSettings ref_rs = small_settings(128, 1);
+    ref_rs.width = 48;
+    ref_rs.height = 36;
+    ref_rs.max_depth = 4;
+    Camera cam = resolve_camera(scene, ref_rs.width, ref_rs.height);
+    Film ref = test::engines_under_test()[0].render(scene, cam, ref_rs).film;
+    RenderSettings rs = ref_rs;
+    rs.seed = 2;
+    for (size_t e = 1; e < test::engines_under_test().size(); ++e) {
+      const test::EngineUnderTest& engine = test::engines_under_test()[e];
+      expect_statistically_equal(ref, engine.render(scene, cam, rs).film, engine.name + " on " + path);
+    }
+  }
+}
+
+TEST(EngineAgreement, TheNoiseTestDetectsATwoPercentBias) {
+  // Power check of expect_statistically_equal: the same renders, one scaled by 1.02.
+  Scene scene = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
+  RenderSettings rs = small_settings(128, 1);
+  rs.width = 48;
+  rs.height = 36;
+  rs.max_depth = 4;
+  Camera cam = resolve_camera(scene, rs.width, rs.height);
+  Film a = test::engines_under_test()[0].render(scene, cam, rs).film;
+  rs.seed = 2;
+  Film b = test::engines_under_test()[0].render(scene, cam, rs).film;
+  expect_statistically_equal(a, b, "unbiased");
+  for (float3& c : b.radiance) c *= 1.02f;
+  EXPECT_NONFATAL_FAILURE(expect_statistically_equal(a, b, "biased"), "image means differ");
+}
+
+void expect_identical(const Film& a, const Film& b, const std::string& what) {
+  ASSERT_EQ(a.radiance.size(), b.radiance.size());
+  EXPECT_EQ(std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(float3)), 0) << what;
+  EXPECT_EQ(a.samples, b.samples) << what;
+  EXPECT_EQ(std::memcmp(a.variance.data(), b.variance.data(), a.variance.size() * sizeof(float)), 0) << what;
+}
+
+TEST(Determinism, ThreadCountAndWaveSizeDoNotChangeTheImage) {
+  Scene scene = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
+  RenderSettings rs = small_settings(48, 3);
+  rs.max_depth = 5;
+  rs.adaptive_batch = 16;
+  rs.adaptive_tolerance = 0.05f;  // adaptive on: the active set changes between passes
+  Camera cam = resolve_camera(scene, rs.width, rs.height);
+  reference::ReferenceAccel accel(scene, reference::AccelMode::kBvh);
+  wf::Bvh2Tracer tracer{accel};
+
+  rs.threads = 1;
+  Film base = wf::render_wavefront(scene, cam, rs, tracer, {4096}).film;
+  for (auto [threads, wave] : {std::pair{2, 4096}, {2, 333}, {2, 16}, {1, 100000}}) {
+    rs.threads = threads;
+    expect_identical(base, wf::render_wavefront(scene, cam, rs, tracer, {size_t(wave)}).film,
+                     "wavefront threads " + std::to_string(threads) + " wave " + std::to_string(wave));
+  }
+  rs.threads = 1;
+  Film mk1 = wf::render_megakernel(scene, cam, rs, tracer).film;
+  rs.threads = 2;
+  expect_identical(mk1, wf::render_megakernel(scene, cam, rs, tracer).film, "megakernel threads 1 vs 2");
+  // Same random numbers, same adaptive decisions: the megakernel's paths are the reference's.
+  EXPECT_EQ(mk1.samples, base.samples);
+}
+
+}  // namespace
+}  // namespace pt
