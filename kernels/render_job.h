@@ -5,6 +5,7 @@
 #include <atomic>
 #include <functional>
 
+#include "accumulation.h"
 #include "camera.h"
 #include "film.h"
 #include "render_settings.h"
@@ -18,6 +19,13 @@ struct RenderControl {
   std::function<void(double)> progress;
   /// When set and true, engines stop at the next tile / pass boundary.
   const std::atomic<bool>* cancel = nullptr;
+
+  /// Pass-based engines: start from this state (a checkpoint) instead of zero.
+  const Accumulation* resume_from = nullptr;
+  /// Pass-based engines: called after every completed pass, and on a cancel
+  /// with the state reached (whole chunks only), e.g. to save a checkpoint.
+  std::function<void(const Accumulation&)> on_pass;
+  std::function<void(const Accumulation&)> on_interrupt;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };

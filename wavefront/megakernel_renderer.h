@@ -18,8 +18,7 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
                                const Tracer& tracer, const RenderControl& control = {}) {
   auto start = std::chrono::steady_clock::now();
   const reference::ReferenceIntegrator<Tracer> integrator(scene, tracer, rs);
-  Accumulation acc;
-  acc.pixels.resize(size_t(rs.width) * rs.height);
+  Accumulation acc = initial_accumulation(rs, control);
   RenderOutput out;
   auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, std::vector<PixelAccumulator>& px,
                    RenderStats& stats) {
@@ -34,7 +33,7 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
       stats.samples += len;
     }
   };
-  run_passes(rs, 4096, control, acc, out.stats, chunk, [](const Accumulation&) {});
+  run_passes(rs, 4096, control, acc, out.stats, chunk);
   out.film = film_from(acc, rs);
   out.cancelled = control.cancelled();
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

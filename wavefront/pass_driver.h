@@ -14,17 +14,11 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "kernels/pixel_accumulator.h"
+#include "kernels/accumulation.h"
 #include "kernels/render_job.h"
 #include "kernels/sample_schedule.h"
 
 namespace pt::wf {
-
-/// Accumulated state of a pass-based render (what a checkpoint saves).
-struct Accumulation {
-  std::vector<PixelAccumulator> pixels;  ///< width * height
-  uint32_t samples_done = 0;             ///< passes completed, in samples per active pixel
-};
 
 /// Film of the accumulated means and sample counts.
 inline Film film_from(const Accumulation& acc, const RenderSettings& rs) {
@@ -45,13 +39,24 @@ inline std::vector<uint32_t> active_pixels(const Accumulation& acc, const Render
   return active;
 }
 
+/// Starts from control.resume_from when given (and sized for this image).
+inline Accumulation initial_accumulation(const RenderSettings& rs, const RenderControl& control) {
+  if (control.resume_from && control.resume_from->pixels.size() == size_t(rs.width) * rs.height)
+    return *control.resume_from;
+  Accumulation acc;
+  acc.pixels.resize(size_t(rs.width) * rs.height);
+  return acc;
+}
+
 /// Runs passes until done or cancelled. `chunk(pixels, first_sample, samples,
 /// accumulators, stats)` renders samples [first, first + samples) of each
 /// pixel in `pixels` and adds them, in order, to accumulators[pixel]; it is
-/// called concurrently for disjoint pixel sets. `on_pass` runs after each pass.
-template <class Chunk, class OnPass>
+/// called concurrently for disjoint pixel sets; a chunk is never interrupted,
+/// so after a cancel every pixel holds whole chunks. control.on_pass runs
+/// after each completed pass; control.checkpoint also on cancel.
+template <class Chunk>
 void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderControl& control, Accumulation& acc,
-                RenderStats& total, Chunk&& chunk, OnPass&& on_pass) {
+                RenderStats& total, Chunk&& chunk) {
   std::vector<uint32_t> active = active_pixels(acc, rs);
   const double total_samples = double(active.size()) * rs.samples_per_pixel;
   std::atomic<uint64_t> samples_finished{0};
@@ -60,8 +65,12 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
 
   while (uint32_t len = pass_length(rs, acc.samples_done)) {
     if (active.empty() || control.cancelled()) break;
+    // A pass interrupted before a checkpoint left some pixels finished; render the rest.
+    std::vector<uint32_t> todo;
+    for (uint32_t p : active)
+      if (acc.pixels[p].samples < acc.samples_done + len) todo.push_back(p);
     const size_t per_chunk = std::max<size_t>(1, paths_per_chunk / len);
-    const size_t chunks = (active.size() + per_chunk - 1) / per_chunk;
+    const size_t chunks = (todo.size() + per_chunk - 1) / per_chunk;
     std::atomic<bool> complete{true};
     arena.execute([&] {
       tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
@@ -69,14 +78,17 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
           complete = false;
           return;
         }
-        size_t begin = c * per_chunk, end = std::min(active.size(), begin + per_chunk);
-        std::span<const uint32_t> pixels(active.data() + begin, end - begin);
+        size_t begin = c * per_chunk, end = std::min(todo.size(), begin + per_chunk);
+        std::span<const uint32_t> pixels(todo.data() + begin, end - begin);
         chunk(pixels, acc.samples_done, len, acc.pixels, thread_stats.local());
         uint64_t done = samples_finished.fetch_add(pixels.size() * len) + pixels.size() * len;
         if (control.progress) control.progress(std::min(1.0, done / total_samples));
       });
     });
-    if (!complete) break;
+    if (!complete) {
+      if (control.on_interrupt) control.on_interrupt(acc);
+      break;
+    }
     acc.samples_done += len;
     if (adaptive_check_due(rs, acc.samples_done)) {
       std::erase_if(active, [&](uint32_t p) {
@@ -85,7 +97,7 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
         return a.converged != 0;
       });
     }
-    on_pass(acc);
+    if (control.on_pass) control.on_pass(acc);
   }
   for (const RenderStats& s : thread_stats) total += s;
 }

@@ -25,8 +25,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
   WaveContext ctx(scene, camera, rs);
   tbb::enumerable_thread_specific<WaveBuffers> buffers;
   tbb::enumerable_thread_specific<StageStats> stages;
-  Accumulation acc;
-  acc.pixels.resize(size_t(rs.width) * rs.height);
+  Accumulation acc = initial_accumulation(rs, control);
   RenderOutput out;
 
   auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, std::vector<PixelAccumulator>& px,
@@ -41,7 +40,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
     }
     stats.samples += b.paths.size;
   };
-  run_passes(rs, options.wave_paths, control, acc, out.stats, chunk, [](const Accumulation&) {});
+  run_passes(rs, options.wave_paths, control, acc, out.stats, chunk);
 
   StageStats all;
   for (const StageStats& s : stages) all += s;

@@ -36,6 +36,10 @@ std::string validate(const Options& o) {
              std::to_string(s.height) + " image";
   }
   if (o.max_leaf_size < 1 || o.max_leaf_size > 64) return "--leaf-size must be 1..64";
+  if (!(o.checkpoint_every > 0.0) || !std::isfinite(o.checkpoint_every))
+    return "--checkpoint-every must be a positive number of seconds";
+  if (!o.checkpoint_file.empty() && o.engine == Engine::kReference)
+    return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
   return {};
 }
 
@@ -98,6 +102,9 @@ ParseResult parse_command_line(int argc, char** argv) {
                "Reproduce the course renderer's quirks: area-light glow, invisible sky, 800x600 framing");
   app.add_flag("--cs184-framing", o.cs184_framing, "Crop of the 800x600 view, as the course renderer frames -r");
   app.add_option("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
+  app.add_option("--checkpoint", o.checkpoint_file,
+                 "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
+  app.add_option("--checkpoint-every", o.checkpoint_every, "Seconds between checkpoint saves");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
 

@@ -19,6 +19,8 @@ struct Options {
   std::string output_path;           ///< -f; empty: <scene name>.png
   std::string camera_file;           ///< -c
   std::string write_camera_file;     ///< --write-camera
+  std::string checkpoint_file;       ///< --checkpoint: save / resume accumulated state
+  double checkpoint_every = 60.0;    ///< seconds between checkpoint saves
   RenderSettings settings;
   Engine engine = Engine::kReference;
   AccelChoice accel = AccelChoice::kBvh2;

@@ -1,13 +1,19 @@
 // pathtracer: load a scene, check the output can be written, render with the
 // chosen engine, write the image (and the sample-rate image), and print the
 // course renderer's end-of-render report. Errors print one line and exit 1.
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 
 #include "cli_options.h"
 #include "io/atomic_file.h"
 #include "io/camera_setup.h"
+#include "io/checkpoint.h"
 #include "io/collada_loader.h"
 #include "io/image_output.h"
 #include "io/scene_error.h"
@@ -17,6 +23,51 @@
 namespace {
 
 using namespace pt;
+
+std::atomic<bool> g_cancel{false};
+volatile sig_atomic_t g_signal = 0;
+
+/// SIGINT / SIGTERM: ask the render to stop; a second signal kills as usual.
+extern "C" void on_stop_signal(int sig) {
+  g_signal = sig;
+  g_cancel.store(true);
+}
+
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sa.sa_flags = SA_RESETHAND;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+/// out.png -> out.partial.png
+std::filesystem::path partial_path(const std::filesystem::path& p) {
+  std::filesystem::path r = p;
+  r.replace_filename(p.stem().string() + ".partial" + p.extension().string());
+  return r;
+}
+
+/// Saves checkpoints every `every` seconds at pass boundaries and on interrupt.
+struct Checkpointing {
+  std::filesystem::path path;
+  std::string fingerprint;
+  double every = 60.0;
+  std::optional<Accumulation> resumed;
+  std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
+
+  void attach(RenderControl& control) {
+    if (resumed) control.resume_from = &*resumed;
+    control.on_pass = [this](const Accumulation& acc) {
+      auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last).count() < every) return;
+      save_checkpoint(path, fingerprint, acc);
+      last = now;
+    };
+    control.on_interrupt = [this](const Accumulation& acc) { save_checkpoint(path, fingerprint, acc); };
+  }
+};
 
 std::filesystem::path default_output(const cli::Options& o, const Scene& scene) {
   return std::filesystem::path(scene.name).stem().string() + ".png";
@@ -57,15 +108,37 @@ int run(const cli::Options& o) {
   Camera camera = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
                                         : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
 
-  cli::ProgressBar bar(!o.quiet);
   RenderControl control;
+  control.cancel = &g_cancel;
+  Checkpointing checkpoint;
+  if (!o.checkpoint_file.empty()) {
+    checkpoint.path = o.checkpoint_file;
+    checkpoint.every = o.checkpoint_every;
+    checkpoint.fingerprint = render_fingerprint(cli::engine_name(o.engine), scene, camera, rs);
+    check_writable(checkpoint.path);
+    checkpoint.resumed = load_checkpoint(checkpoint.path, checkpoint.fingerprint, size_t(rs.width) * rs.height);
+    if (checkpoint.resumed && !o.quiet)
+      std::printf("Resuming from %s (%u samples per pixel done)\n", checkpoint.path.c_str(),
+                  checkpoint.resumed->samples_done);
+    checkpoint.attach(control);
+  }
+  cli::ProgressBar bar(!o.quiet);
   control.progress = [&bar](double f) { bar.update(f); };
+  install_stop_handlers();
   RenderOutput out = cli::render_with_engine(o, scene, camera, control);
   bar.finish();
 
+  if (out.cancelled) {
+    std::filesystem::path partial = partial_path(output);
+    write_image(partial, out.film);
+    std::fprintf(stderr, "interrupted: wrote the image so far to %s%s\n", partial.c_str(),
+                 checkpoint.path.empty() ? "" : (" and the state to " + checkpoint.path.string()).c_str());
+    return 128 + (g_signal ? g_signal : SIGINT);
+  }
   write_image(output, out.film);
   if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), out.film);
   if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);
+  if (!checkpoint.path.empty()) std::filesystem::remove(checkpoint.path);  // complete: nothing to resume
   if (!o.quiet) {
     print_report(o, out);
     std::printf("Wrote %s%s\n", output.c_str(), rs.adaptive() ? (" and " + rate_image_path(output).string()).c_str() : "");

@@ -67,7 +67,10 @@ RenderOutput render_reference(const Scene& scene, const Camera& camera, const Re
       int x0 = region.x + (t % tiles_x) * kTile, y0 = region.y + (t / tiles_x) * kTile;
       int x1 = std::min(x0 + kTile, region.x + region.width), y1 = std::min(y0 + kTile, region.y + region.height);
       for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) render_pixel(x, y, stats);
+        for (int x = x0; x < x1; ++x) {
+          if (control.cancelled()) return;  // pixels not reached stay black with 0 samples
+          render_pixel(x, y, stats);
+        }
       int done = tiles_done.fetch_add(1) + 1;
       if (control.progress) control.progress(double(done) / tile_count);
     });

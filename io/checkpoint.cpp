@@ -1,0 +1,90 @@
+// Checkpoint format: "PTCHECK1", fingerprint length + text, samples_done,
+// pixel count, the PixelAccumulator array, and an FNV-1a checksum of all of it.
+#include "checkpoint.h"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "atomic_file.h"
+#include "scene_error.h"
+
+namespace pt {
+namespace {
+
+constexpr char kMagic[8] = {'P', 'T', 'C', 'H', 'E', 'C', 'K', '1'};
+
+uint64_t fnv1a(const void* data, size_t n, uint64_t h = 0xcbf29ce484222325ull) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+  return h;
+}
+
+template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+
+template <class T> bool take(std::string_view& in, T& v) {
+  if (in.size() < sizeof v) return false;
+  std::memcpy(&v, in.data(), sizeof v);
+  in.remove_prefix(sizeof v);
+  return true;
+}
+
+}  // namespace
+
+std::string render_fingerprint(const std::string& engine, const Scene& scene, const Camera& c,
+                               const RenderSettings& rs) {
+  std::ostringstream o;
+  o.precision(9);
+  o << "engine=" << engine << " scene=" << scene.name << " tris=" << scene.triangles.size()
+    << " spheres=" << scene.spheres.size()
+    << " geometry=" << fnv1a(scene.positions.data(), scene.positions.size() * sizeof(float3))
+    << " camera=" << fnv1a(&c, sizeof c) << " size=" << rs.width << "x" << rs.height << " s=" << rs.samples_per_pixel
+    << " l=" << rs.light_samples << " m=" << rs.max_depth << " a=" << rs.adaptive_batch << "," << rs.adaptive_tolerance
+    << " rr=" << rs.rr_continue << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)
+    << " shading=" << int(rs.shading) << " seed=" << rs.seed << " quirks=" << rs.cs184_light_quirk
+    << rs.cs184_invisible_sky;
+  if (rs.region) o << " region=" << rs.region->x << "," << rs.region->y << "," << rs.region->width << "," << rs.region->height;
+  return o.str();
+}
+
+void save_checkpoint(const std::filesystem::path& path, const std::string& fingerprint, const Accumulation& acc) {
+  std::string out(kMagic, sizeof kMagic);
+  put(out, static_cast<uint32_t>(fingerprint.size()));
+  out += fingerprint;
+  put(out, acc.samples_done);
+  put(out, static_cast<uint64_t>(acc.pixels.size()));
+  out.append(reinterpret_cast<const char*>(acc.pixels.data()), acc.pixels.size() * sizeof(PixelAccumulator));
+  put(out, fnv1a(out.data(), out.size()));
+  write_file_atomically(path, out);
+}
+
+std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, const std::string& fingerprint,
+                                            size_t pixel_count) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto corrupt = [&](const char* what) { return InputError(path.string() + ": not a usable checkpoint: " + what); };
+  if (!in && !in.eof()) throw corrupt("cannot be read");
+  if (data.size() < sizeof kMagic + 8 || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0) throw corrupt("bad header");
+  uint64_t stored_sum = 0;
+  std::memcpy(&stored_sum, data.data() + data.size() - 8, 8);
+  if (fnv1a(data.data(), data.size() - 8) != stored_sum) throw corrupt("checksum mismatch");
+  std::string_view rest(data.data() + sizeof kMagic, data.size() - sizeof kMagic - 8);
+  uint32_t fp_len = 0;
+  if (!take(rest, fp_len) || rest.size() < fp_len) throw corrupt("truncated");
+  if (rest.substr(0, fp_len) != fingerprint)
+    throw InputError(path.string() + ": checkpoint was written for a different render (" +
+                     std::string(rest.substr(0, std::min<size_t>(fp_len, 120))) + "...)");
+  rest.remove_prefix(fp_len);
+  Accumulation acc;
+  uint64_t n = 0;
+  if (!take(rest, acc.samples_done) || !take(rest, n) || n != pixel_count ||
+      rest.size() != n * sizeof(PixelAccumulator))
+    throw corrupt("pixel data does not match the image size");
+  acc.pixels.resize(n);
+  std::memcpy(acc.pixels.data(), rest.data(), rest.size());
+  return acc;
+}
+
+}  // namespace pt
