@@ -3,7 +3,7 @@
 #pragma once
 
 #include "camera.h"
-#include "random.h"
+#include "path_sampler.h"
 #include "render_settings.h"
 #include "sample_dimensions.h"
 
@@ -13,9 +13,9 @@ inline uint32_t pixel_index(const RenderSettings& rs, int x, int y) {
   return static_cast<uint32_t>(y) * static_cast<uint32_t>(rs.width) + static_cast<uint32_t>(x);
 }
 
-inline Ray jittered_camera_ray(const Camera& c, const RenderSettings& rs, int x, int y, uint32_t key) {
-  float jx = random_uniform(key, dims::kCameraBounce, dims::kPixelJitter);
-  float jy = random_uniform(key, dims::kCameraBounce, dims::kPixelJitter + 1);
+inline Ray jittered_camera_ray(const Camera& c, const RenderSettings& rs, int x, int y, const PathSampler& ps) {
+  float jx, jy;
+  ps.get2d(dims::kCameraBounce, dims::kPixelJitter, jx, jy);
   return camera_ray(c, (x + jx) / rs.width, 1.0f - (y + jy) / rs.height);
 }
 

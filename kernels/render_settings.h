@@ -10,6 +10,17 @@ namespace pt {
 enum class DirectLighting : uint8_t {
   kLightSampling,  ///< -l: sample each light (the default)
   kHemisphere,     ///< -H: uniform hemisphere sampling, lights found by hitting them
+  kCosine,         ///< cosine-weighted hemisphere sampling, lights found by hitting them
+  kMis,            ///< light samples + the BSDF continuation, power heuristic
+};
+
+/// Source of the 2D sample dimensions (jitter, light samples, BSDF directions).
+enum class PixelSampler : uint8_t { kIndependent, kSobol };
+
+/// How Russian roulette picks the continuation probability.
+enum class RouletteMode : uint8_t {
+  kFixed,       ///< rr_continue (the assignment's 0.65)
+  kThroughput,  ///< min(1, largest component of the path throughput)
 };
 
 enum class BounceMode : uint8_t {
@@ -35,6 +46,8 @@ struct RenderSettings {
   float adaptive_tolerance = 0.05f;///< 0 turns adaptive sampling off
   float rr_continue = 0.65f;       ///< Russian roulette continuation probability
   DirectLighting direct = DirectLighting::kLightSampling;
+  PixelSampler sampler = PixelSampler::kIndependent;
+  RouletteMode roulette = RouletteMode::kFixed;
   BounceMode bounces = BounceMode::kAccumulate;
   ShadingMode shading = ShadingMode::kPathTrace;
   uint32_t seed = 0;
@@ -44,6 +57,10 @@ struct RenderSettings {
   bool cs184_invisible_sky = false;///< escaped rays see no sky (course renderer)
 
   bool adaptive() const { return adaptive_tolerance > 0.0f && adaptive_batch > 0; }
+  /// Whether direct light is estimated by tracing rays that find emitters.
+  bool direct_by_hitting() const {
+    return direct == DirectLighting::kHemisphere || direct == DirectLighting::kCosine;
+  }
   /// Whether light that arrives after `bounce` reflections enters the image.
   bool counts_bounce(int bounce) const {
     switch (bounces) {

@@ -8,6 +8,8 @@
 
 #include "render_settings.h"
 #include "scene.h"
+#include "lights.h"
+#include "sampling.h"
 #include "surface.h"
 
 namespace pt {
@@ -24,14 +26,52 @@ inline uint32_t hemisphere_sample_count(const Scene& s, const RenderSettings& rs
   return static_cast<uint32_t>(std::max<size_t>(1, s.light_count() * static_cast<size_t>(rs.light_samples)));
 }
 
-/// Whether a bounce ray that reaches `sp` adds its emission. With light
-/// sampling, sampled lights were counted by their shadow rays; emitters that
-/// no light sampler knows (emissive meshes) are counted here. With hemisphere
-/// sampling the estimator at the previous vertex already counted everything.
+/// Whether a bounce ray that reaches `sp` adds its emission at full weight.
+/// With light sampling, sampled lights were counted by their shadow rays;
+/// emitters that no light sampler knows (emissive meshes) are counted here.
+/// With hemisphere sampling the estimator at the previous vertex already
+/// counted everything. (MIS weights sampled lights separately.)
 inline bool emission_found_by_bounce(const Scene& s, const SurfacePoint& sp, const RenderSettings& rs) {
-  if (rs.direct == DirectLighting::kHemisphere) return false;
+  if (rs.direct_by_hitting()) return false;
   const Material& m = s.materials[sp.material];
   return m.is_emitter() && m.area_light < 0;
+}
+
+/// cos / pdf of a direction found by the hit-based direct estimators: uniform
+/// hemisphere (pdf 1 / 2 pi) or cosine-weighted (pdf cos / pi).
+template <class T> inline T hit_sampling_weight(const RenderSettings& rs, T cos_theta) {
+  return rs.direct == DirectLighting::kCosine ? T(kPi) : cos_theta / T(kInv2Pi);
+}
+
+/// Power heuristic weight of a strategy with (count x pdf) `a` against `b`.
+template <class T> inline T power_heuristic(T a, T b) {
+  T a2 = a * a, b2 = b * b;
+  return lane::select(a2 > T(0.0f), a2 / (a2 + b2), T(0.0f));
+}
+
+/// Russian roulette's continuation probability for a path of throughput beta.
+template <class T> inline T continuation_probability(const RenderSettings& rs, T beta_max) {
+  return rs.roulette == RouletteMode::kThroughput ? lane::min(T(1.0f), beta_max) : T(rs.rr_continue);
+}
+
+/// Light that a BSDF-sampled ray (unit direction, pdf `bsdf_pdf`) finds under
+/// MIS: an area light's emitting side or the sky (hit == nullptr: escaped),
+/// times the power-heuristic weight against `light_samples` light samples.
+/// Black for everything else.
+inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, const Ray& ray, const Hit* hit,
+                                      float bsdf_pdf) {
+  const float n = static_cast<float>(rs.light_samples);
+  if (!hit) {
+    if (!s.sky || rs.cs184_invisible_sky) return {};
+    float3 L = sky_radiance(*s.sky, ray.dir);
+    return is_black(L) ? L : L * power_heuristic(bsdf_pdf, n * kInv2Pi);
+  }
+  SurfacePoint sp = surface_at(s, ray, *hit);
+  const Material& m = s.materials[sp.material];
+  if (m.area_light < 0) return {};
+  float3 L = emitted_radiance(s, sp, ray, rs);
+  if (is_black(L)) return L;
+  return L * power_heuristic(bsdf_pdf, n * area_light_pdf(s.area_lights[m.area_light], ray.dir, hit->t));
 }
 
 /// The assignment's normal shading: n * 0.5 + 0.5 of the stored shading normal.

@@ -2,7 +2,7 @@
 #include "generate_camera_rays.h"
 
 #include "kernels/camera.h"
-#include "kernels/random.h"
+#include "kernels/path_sampler.h"
 #include "kernels/sample_dimensions.h"
 
 namespace pt::wf {
@@ -15,8 +15,6 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
   paths.reserve(n);
   rays.reserve(n);
   paths.size = rays.size = n;
-  const uint32_t jitter_x = dimension_key(dims::kCameraBounce, dims::kPixelJitter);
-  const uint32_t jitter_y = dimension_key(dims::kCameraBounce, dims::kPixelJitter + 1);
   const vfloatK width(static_cast<float>(rs.width)), height(static_cast<float>(rs.height));
 
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
@@ -30,10 +28,10 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
       fx[lane] = static_cast<float>(pixel % static_cast<uint32_t>(rs.width));
       fy[lane] = static_cast<float>(pixel / static_cast<uint32_t>(rs.width));
     }
-    vuintK key = path_key(rs.seed, vuintK::load_aligned(&paths.pixel[i0]), vuintK::load_aligned(&paths.sample[i0]));
-    key.store_aligned(&paths.key[i0]);
-    vfloatK jx = random_float<vuintK, vfloatK>(key, jitter_x);
-    vfloatK jy = random_float<vuintK, vfloatK>(key, jitter_y);
+    PathSamplerT<vuintK, vfloatK> ps(rs, vuintK::load_aligned(&paths.pixel[i0]), vuintK::load_aligned(&paths.sample[i0]));
+    ps.key.store_aligned(&paths.key[i0]);
+    vfloatK jx, jy;
+    ps.get2d(dims::kCameraBounce, dims::kPixelJitter, jx, jy);
     vfloatK sx = (vfloatK::load_aligned(fx) + jx) / width;
     vfloatK sy = vfloatK(1.0f) - (vfloatK::load_aligned(fy) + jy) / height;
     Vec3T<vfloatK> d = camera_ray_direction(cam, sx, sy);

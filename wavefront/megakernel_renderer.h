@@ -26,8 +26,8 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
       int x = static_cast<int>(pixel % static_cast<uint32_t>(rs.width));
       int y = static_cast<int>(pixel / static_cast<uint32_t>(rs.width));
       for (uint32_t s = first; s < first + len; ++s) {
-        uint32_t key = path_key(rs.seed, pixel, s);
-        if (!px[pixel].add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats)))
+        PathSampler ps(rs, pixel, s);
+        if (!px[pixel].add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats)))
           ++stats.invalid_samples;
       }
       stats.samples += len;

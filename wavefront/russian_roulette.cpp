@@ -3,6 +3,7 @@
 
 #include "kernels/random.h"
 #include "kernels/sample_dimensions.h"
+#include "kernels/shading.h"
 #include "lane_output.h"
 
 namespace pt::wf {
@@ -19,21 +20,25 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
     for (size_t i = 0; i < n; ++i) keep(i);
     return;
   }
-  const float p = ctx.settings.rr_continue;
-  const float inv_p = 1.0f / p;
+  const RenderSettings& rs = ctx.settings;
   const uint32_t dim_key = dimension_key(vertex, dims::kRoulette);
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     vuintK path = vuintK::load_aligned(&candidates.path[i0]);
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
     vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(path), vintK(0));
     vuintK key = vuintK::gather(paths.key.data(), safe_path);
-    vboolK survive = valid && random_float<vuintK, vfloatK>(key, dim_key) < vfloatK(p);
+    vfloatK beta_max = xsimd::max(vfloatK::gather(paths.beta_r.data(), safe_path),
+                                  xsimd::max(vfloatK::gather(paths.beta_g.data(), safe_path),
+                                             vfloatK::gather(paths.beta_b.data(), safe_path)));
+    vfloatK p = continuation_probability(rs, beta_max);
+    vboolK survive = valid && random_float<vuintK, vfloatK>(key, dim_key) < p;
+    LaneFloats inv_p(vfloatK(1.0f) / p);
     LaneUints paths_of(path);
     for_each_lane(bitmask(survive), [&](size_t l) {
       uint32_t path_id = paths_of[l];
-      paths.beta_r[path_id] *= inv_p;
-      paths.beta_g[path_id] *= inv_p;
-      paths.beta_b[path_id] *= inv_p;
+      paths.beta_r[path_id] *= inv_p[l];
+      paths.beta_g[path_id] *= inv_p[l];
+      paths.beta_b[path_id] *= inv_p[l];
       keep(i0 + l);
     });
   }

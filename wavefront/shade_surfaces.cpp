@@ -1,10 +1,11 @@
-// shade_surfaces: per K-lane chunk, fetch surfaces, then emission, direct
-// light and BSDF sampling as separate steps.
+// shade_surfaces: per K-lane chunk, fetch surfaces, then emission (and light
+// found by the previous BSDF sample), direct light and BSDF sampling as
+// separate steps.
 #include "shade_surfaces.h"
 
 #include "fetch_surfaces.h"
 #include "kernels/lights.h"
-#include "kernels/random.h"
+#include "kernels/path_sampler.h"
 #include "kernels/sample_dimensions.h"
 #include "kernels/sampling.h"
 #include "kernels/shading.h"
@@ -15,46 +16,50 @@ namespace pt::wf {
 namespace {
 
 using V3 = Vec3T<vfloatK>;
+using SamplerK = PathSamplerT<vuintK, vfloatK>;
 
 /// What the steps of one chunk share.
 struct Chunk {
   SurfaceBatch s;
-  vuintK path, key;
+  vuintK path;
+  SamplerK ps;
   V3 beta, albedo;
   vboolK reflects;  ///< a surface with non-black albedo
   uint32_t vertex;
 };
 
-vfloatK uniform(vuintK key, uint32_t vertex, uint32_t dim) {
-  return random_float<vuintK, vfloatK>(key, dimension_key(vertex, dim));
-}
+vintK as_index(vuintK u) { return xsimd::bitwise_cast<vintK>(u); }
 
-V3 gather_paths3(const AlignedVector<float>& r, const AlignedVector<float>& g, const AlignedVector<float>& b,
-                 vuintK path) {
-  vintK i = xsimd::bitwise_cast<vintK>(path);
+V3 gather3(const AlignedVector<float>& r, const AlignedVector<float>& g, const AlignedVector<float>& b, vintK i) {
   return {vfloatK::gather(r.data(), i), vfloatK::gather(g.data(), i), vfloatK::gather(b.data(), i)};
 }
 
 vfloatK dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-/// Emission the rays see (scalar: only lanes that hit emitters, and camera rays that escape).
+/// Emission the rays see, and under MIS the light their BSDF sample found
+/// (scalar: only lanes that hit emitters, or escaped where the sky counts).
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
                   uint64_t lanes, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
+  const bool mis = rs.direct == DirectLighting::kMis && depth > 0 && rs.counts_bounce(static_cast<int>(depth));
   for_each_lane(lanes, [&](size_t lane) {
     size_t i = i0 + lane;
     uint32_t path = rays.path[i];
     Ray ray = rays.ray(i);
+    Hit hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]};
+    float3 beta{paths.beta_r[path], paths.beta_g[path], paths.beta_b[path]};
     float3 L;
-    if (hits.prim[i] == kInvalidId) {
+    if (!hit.valid()) {
       if (depth == 0 && rs.counts_bounce(0) && ctx.sky_visible) L = sky_radiance(*ctx.scene.sky, ray.dir);
+      else if (mis) L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, nullptr, paths.bsdf_pdf[path]);
     } else {
-      SurfacePoint sp = surface_at(ctx.scene, ray, Hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
+      SurfacePoint sp = surface_at(ctx.scene, ray, hit);
       if (depth == 0) {
         if (rs.counts_bounce(0)) L = emitted_radiance(ctx.scene, sp, ray, rs);
       } else if (emission_found_by_bounce(ctx.scene, sp, rs) && rs.counts_bounce(static_cast<int>(depth))) {
-        float3 beta{paths.beta_r[path], paths.beta_g[path], paths.beta_b[path]};
         L = beta * emitted_radiance(ctx.scene, sp, ray, rs);
+      } else if (mis) {
+        L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, &hit, paths.bsdf_pdf[path]);
       }
     }
     if (!is_black(L)) paths.add_radiance(path, L.x, L.y, L.z);
@@ -74,18 +79,31 @@ V3 light_weight(const V3& beta_f, const float3& radiance, vfloatK factor) {
           beta_f.z * (vfloatK(radiance.z) * factor)};
 }
 
-void sample_lights(const WaveContext& ctx, const Chunk& c, vboolK on, ShadowQueue& q) {
+V3 throughput_times_bsdf(const Chunk& c) {
+  const vfloatK inv_pi(kInvPi);
+  return {c.beta.x * c.albedo.x * inv_pi, c.beta.y * c.albedo.y * inv_pi, c.beta.z * c.albedo.z * inv_pi};
+}
+
+/// cos / pdf, times the MIS weight against the BSDF sample when it competes.
+vfloatK light_factor(vfloatK cos_s, vfloatK pdf, vfloatK mis_count) {
+  vfloatK g = cos_s / pdf;
+  return g * lane::select(mis_count > vfloatK(0.0f), power_heuristic(mis_count * pdf, cos_s * vfloatK(kInvPi)),
+                          vfloatK(1.0f));
+}
+
+void sample_lights(const WaveContext& ctx, const Chunk& c, vboolK on, bool bsdf_competes, ShadowQueue& q) {
   const Scene& scene = ctx.scene;
   const int n = ctx.settings.light_samples;
   const vfloatK inv_n(1.0f / static_cast<float>(n));
-  const vfloatK inv_pi(kInvPi);
-  V3 beta_f{c.beta.x * c.albedo.x * inv_pi, c.beta.y * c.albedo.y * inv_pi, c.beta.z * c.albedo.z * inv_pi};
+  const vfloatK mis_count(bsdf_competes ? static_cast<float>(n) : 0.0f);
+  const V3 beta_f = throughput_times_bsdf(c);
   uint32_t k = 0;
+  vfloatK u1, u2;
   for (const AreaLight& light : scene.area_lights)
     for (int j = 0; j < n; ++j, ++k) {
-      vfloatK u1 = uniform(c.key, c.vertex, dims::light_dim(k)), u2 = uniform(c.key, c.vertex, dims::light_dim(k) + 1);
+      c.ps.get2d(c.vertex, dims::light_dim(k), u1, u2);
       AreaLightSampleT<vfloatK> ls = sample_area_light<vfloatK>(light, c.s.p.x, c.s.p.y, c.s.p.z, u1, u2);
-      vfloatK g = dot(c.s.ns, ls.wi) / ls.pdf * inv_n;
+      vfloatK g = light_factor(dot(c.s.ns, ls.wi), ls.pdf, mis_count) * inv_n;
       push_light_sample(c, on && ls.facing, ls.wi, ls.dist * vfloatK(1.0f - kShadowRayShrink),
                         light_weight(beta_f, light.radiance, g), q);
     }
@@ -103,24 +121,27 @@ void sample_lights(const WaveContext& ctx, const Chunk& c, vboolK on, ShadowQueu
   }
   if (scene.sky)
     for (int j = 0; j < n; ++j, ++k) {
-      vfloatK u1 = uniform(c.key, c.vertex, dims::light_dim(k)), u2 = uniform(c.key, c.vertex, dims::light_dim(k) + 1);
+      c.ps.get2d(c.vertex, dims::light_dim(k), u1, u2);
       V3 wi = sample_sky_direction(u1, u2);
-      vfloatK g = dot(c.s.ns, wi) / vfloatK(kInv2Pi) * inv_n;
+      vfloatK g = light_factor(dot(c.s.ns, wi), vfloatK(kInv2Pi), mis_count) * inv_n;
       push_light_sample(c, on, wi, vfloatK(kInfinity), light_weight(beta_f, scene.sky->radiance, g), q);
     }
 }
 
-void sample_hemisphere(const WaveContext& ctx, const Chunk& c, vboolK on, ShadowQueue& q) {
-  const uint32_t n = hemisphere_sample_count(ctx.scene, ctx.settings);
+/// Hemisphere (-H) or cosine-weighted sampling: rays that find emitters.
+void sample_by_hitting(const WaveContext& ctx, const Chunk& c, vboolK on, ShadowQueue& q) {
+  const RenderSettings& rs = ctx.settings;
+  const uint32_t n = hemisphere_sample_count(ctx.scene, rs);
   const vfloatK scale(1.0f / static_cast<float>(n));
-  const vfloatK inv_pi(kInvPi);
-  V3 beta_f{c.beta.x * c.albedo.x * inv_pi, c.beta.y * c.albedo.y * inv_pi, c.beta.z * c.albedo.z * inv_pi};
+  const V3 beta_f = throughput_times_bsdf(c);
+  const bool cosine = rs.direct == DirectLighting::kCosine;
+  vfloatK u1, u2;
   for (uint32_t k = 0; k < n; ++k) {
-    vfloatK u1 = uniform(c.key, c.vertex, dims::light_dim(k)), u2 = uniform(c.key, c.vertex, dims::light_dim(k) + 1);
-    V3 local = sample_uniform_hemisphere(u1, u2);
+    c.ps.get2d(c.vertex, dims::light_dim(k), u1, u2);
+    V3 local = cosine ? sample_cosine_hemisphere(u1, u2) : sample_uniform_hemisphere(u1, u2);
     V3 wi = to_world(c.s.ns.x, c.s.ns.y, c.s.ns.z, local.x, local.y, local.z);
     vboolK ok = on && dot(c.s.ng, wi) > vfloatK(0.0f);
-    vfloatK g = local.z / vfloatK(kInv2Pi) * scale;
+    vfloatK g = hit_sampling_weight(rs, local.z) * scale;
     V3 w{beta_f.x * g, beta_f.y * g, beta_f.z * g};
     push_shadow_lanes(bitmask(ok), q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, vfloatK(kInfinity), c.path, w);
   }
@@ -128,17 +149,21 @@ void sample_hemisphere(const WaveContext& ctx, const Chunk& c, vboolK on, Shadow
 
 /// Cosine-weighted continuation; throughput *= albedo (f cos / pdf).
 void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
-  V3 local = sample_cosine_hemisphere(uniform(c.key, c.vertex, dims::kBsdf), uniform(c.key, c.vertex, dims::kBsdf + 1));
+  vfloatK u1, u2;
+  c.ps.get2d(c.vertex, dims::kBsdf, u1, u2);
+  V3 local = sample_cosine_hemisphere(u1, u2);
   V3 wi = to_world(c.s.ns.x, c.s.ns.y, c.s.ns.z, local.x, local.y, local.z);
   vboolK ok = c.reflects && dot(wi, c.s.ng) > vfloatK(0.0f);
   uint64_t mask = bitmask(ok);
   if (!mask) return;
   LaneFloats br(c.beta.x * c.albedo.x), bg(c.beta.y * c.albedo.y), bb(c.beta.z * c.albedo.z);
+  LaneFloats pdf(local.z * vfloatK(kInvPi));
   LaneUints path(c.path);
   for_each_lane(mask, [&](size_t l) {
     paths.beta_r[path[l]] = br[l];
     paths.beta_g[path[l]] = bg[l];
     paths.beta_b[path[l]] = bb[l];
+    paths.bsdf_pdf[path[l]] = pdf[l];
   });
   push_ray_lanes(mask, q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, c.path);
 }
@@ -151,34 +176,35 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
   const uint32_t vertex = depth + 1;
   const bool direct = rs.counts_bounce(static_cast<int>(vertex));
   const bool continues = static_cast<int>(vertex) < rs.max_depth;
+  const bool escapes_count =
+      depth == 0 || (rs.direct == DirectLighting::kMis && ctx.sky_visible && rs.counts_bounce(static_cast<int>(depth)));
   const size_t n = rays.size;
   out.shadows.reserve(n * ctx.shadow_rays_per_vertex);
-  out.hemisphere.reserve(rs.direct == DirectLighting::kHemisphere ? n * ctx.shadow_rays_per_vertex : 0);
+  out.hemisphere.reserve(rs.direct_by_hitting() ? n * ctx.shadow_rays_per_vertex : 0);
   out.continuations.reserve(n);
   const MaterialArrays& mats = ctx.materials;
 
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
-    Chunk c;
-    c.s = fetch_surfaces(ctx, rays, hits, i0);
-    c.vertex = vertex;
-    vboolK emits = c.s.hit && as_float_mask(vintK::gather(mats.emits.data(), c.s.material) != vintK(0));
-    vboolK escaped = c.s.valid && !c.s.hit;
-    uint64_t emission_lanes = bitmask(emits) | (depth == 0 ? bitmask(escaped) : 0);
+    SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
+    vboolK emits = s.hit && as_float_mask(vintK::gather(mats.emits.data(), s.material) != vintK(0));
+    uint64_t emission_lanes = bitmask(emits) | (escapes_count ? bitmask(s.valid && !s.hit) : 0);
     if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
     if (!direct && !continues) continue;
 
-    vintK raw_path = xsimd::bitwise_cast<vintK>(vuintK::load_aligned(&rays.path[i0]));
-    c.path = xsimd::bitwise_cast<vuintK>(xsimd::select(as_int_mask(c.s.valid), raw_path, vintK(0)));
-    c.key = vuintK::gather(paths.key.data(), xsimd::bitwise_cast<vintK>(c.path));
-    c.beta = gather_paths3(paths.beta_r, paths.beta_g, paths.beta_b, c.path);
-    c.albedo = {vfloatK::gather(mats.albedo_r.data(), c.s.material), vfloatK::gather(mats.albedo_g.data(), c.s.material),
-                vfloatK::gather(mats.albedo_b.data(), c.s.material)};
+    vintK path = xsimd::select(as_int_mask(s.valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));
+    Chunk c{s,
+            xsimd::bitwise_cast<vuintK>(path),
+            SamplerK(rs, vuintK::gather(paths.pixel.data(), path), vuintK::gather(paths.sample.data(), path)),
+            gather3(paths.beta_r, paths.beta_g, paths.beta_b, path),
+            gather3(mats.albedo_r, mats.albedo_g, mats.albedo_b, s.material),
+            vboolK(false),
+            vertex};
     vfloatK zero(0.0f);
-    c.reflects = c.s.hit && (c.albedo.x != zero || c.albedo.y != zero || c.albedo.z != zero);
+    c.reflects = s.hit && (c.albedo.x != zero || c.albedo.y != zero || c.albedo.z != zero);
 
     if (direct) {
-      if (rs.direct == DirectLighting::kHemisphere) sample_hemisphere(ctx, c, c.reflects, out.hemisphere);
-      else sample_lights(ctx, c, c.reflects, out.shadows);
+      if (rs.direct_by_hitting()) sample_by_hitting(ctx, c, c.reflects, out.hemisphere);
+      else sample_lights(ctx, c, c.reflects, rs.direct == DirectLighting::kMis && continues, out.shadows);
     }
     if (continues) sample_bsdf(c, paths, out.continuations);
   }

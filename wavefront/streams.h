@@ -8,11 +8,12 @@
 
 namespace pt::wf {
 
-/// 36 bytes per path: identity, random key, throughput and radiance so far.
+/// 40 bytes per path: identity, random key, throughput, radiance so far, and
+/// the pdf of the last BSDF sample (for MIS when its ray finds a light).
 #define PT_PATH_FIELDS(X)                                                         \
   X(uint32_t, pixel) X(uint32_t, sample) X(uint32_t, key)                         \
   X(float, beta_r) X(float, beta_g) X(float, beta_b)                              \
-  X(float, radiance_r) X(float, radiance_g) X(float, radiance_b)
+  X(float, radiance_r) X(float, radiance_g) X(float, radiance_b) X(float, bsdf_pdf)
 struct PathState {
   PT_SOA_STREAM(PT_PATH_FIELDS)
   void add_radiance(uint32_t path, float r, float g, float b) {

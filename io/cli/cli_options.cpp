@@ -71,7 +71,7 @@ ParseResult parse_command_line(int argc, char** argv) {
 
   std::vector<int> resolution, region;
   std::vector<std::string> adaptive;
-  std::string bounce_mode = "accumulate";
+  std::string bounce_mode = "accumulate", direct_mode, sampler = "independent", rr_mode = "fixed";
   bool hemisphere = false, normals = false, cs184 = false;
 
   app.add_option("scene", o.scene_path, "COLLADA scene file (.dae)");
@@ -94,7 +94,14 @@ ParseResult parse_command_line(int argc, char** argv) {
           {"bvh4", AccelChoice::kBvh4}, {"bvh2", AccelChoice::kBvh2}, {"none", AccelChoice::kNone}}));
   app.add_option("--leaf-size", o.max_leaf_size, "Maximum primitives per leaf of the bvh2 build");
   app.add_option("--seed", s.seed, "Random seed");
-  app.add_option("--rr", s.rr_continue, "Russian roulette continuation probability");
+  app.add_option("--rr", s.rr_continue, "Russian roulette continuation probability (--rr-mode fixed)");
+  app.add_option("--rr-mode", rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))")
+      ->check(CLI::IsMember({"fixed", "throughput"}));
+  app.add_option("--direct", direct_mode,
+                 "Direct light: light (importance sampling), hemisphere (= -H), cosine, or mis (lights + BSDF)")
+      ->check(CLI::IsMember({"light", "hemisphere", "cosine", "mis"}));
+  app.add_option("--sampler", sampler, "Sample source: independent or sobol (Owen-scrambled)")
+      ->check(CLI::IsMember({"independent", "sobol"}));
   app.add_option("--bounces", bounce_mode, "accumulate, only-m (only the m-th bounce), direct or indirect")
       ->check(CLI::IsMember({"accumulate", "only-m", "direct", "indirect"}));
   app.add_flag("--normals", normals, "Normal shading instead of path tracing");
@@ -132,7 +139,16 @@ ParseResult parse_command_line(int argc, char** argv) {
       return {std::nullopt, 2};
     }
   }
-  s.direct = hemisphere ? DirectLighting::kHemisphere : DirectLighting::kLightSampling;
+  if (hemisphere && !direct_mode.empty() && direct_mode != "hemisphere") {
+    std::cerr << "error: -H and --direct " << direct_mode << " contradict each other\n";
+    return {std::nullopt, 2};
+  }
+  s.direct = hemisphere || direct_mode == "hemisphere" ? DirectLighting::kHemisphere
+             : direct_mode == "cosine"                 ? DirectLighting::kCosine
+             : direct_mode == "mis"                    ? DirectLighting::kMis
+                                                       : DirectLighting::kLightSampling;
+  s.sampler = sampler == "sobol" ? PixelSampler::kSobol : PixelSampler::kIndependent;
+  s.roulette = rr_mode == "throughput" ? RouletteMode::kThroughput : RouletteMode::kFixed;
   s.shading = normals ? ShadingMode::kNormals : ShadingMode::kPathTrace;
   s.bounces = bounce_mode == "only-m"   ? BounceMode::kOnlyBounceM
               : bounce_mode == "direct" ? BounceMode::kDirectOnly

@@ -94,10 +94,10 @@ int run(const cli::Options& o) {
   if (!o.quiet) std::printf("%s\n", scene_summary(loaded).c_str());
   const Scene& scene = loaded.scene;
   const RenderSettings& rs = o.settings;
-  if (rs.direct == DirectLighting::kHemisphere && scene.has_delta_lights_only())
+  if (rs.direct_by_hitting() && scene.has_delta_lights_only())
     std::fprintf(stderr,
-                 "warning: %s: -H (hemisphere sampling) cannot see point or directional lights; their direct light "
-                 "will be black\n",
+                 "warning: %s: hemisphere sampling cannot see point or directional lights; the image will be black "
+                 "(use light sampling)\n",
                  scene.name.c_str());
 
   std::filesystem::path output = o.output_path.empty() ? default_output(o, scene) : std::filesystem::path(o.output_path);

@@ -25,8 +25,8 @@ Region render_region(const RenderSettings& rs) {
 
 float3 reference_sample(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
                         const RenderSettings& rs, int x, int y, uint32_t sample, RenderStats& stats) {
-  uint32_t key = path_key(rs.seed, pixel_index(rs, x, y), sample);
-  return ReferenceIntegrator<>(scene, accel, rs).radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats);
+  PathSampler ps(rs, pixel_index(rs, x, y), sample);
+  return ReferenceIntegrator<>(scene, accel, rs).radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats);
 }
 
 RenderOutput render_reference(const Scene& scene, const Camera& camera, const RenderSettings& rs,
@@ -46,8 +46,8 @@ RenderOutput render_reference(const Scene& scene, const Camera& camera, const Re
     const uint32_t pixel = pixel_index(rs, x, y);
     PixelAccumulator acc;
     while (acc.samples < static_cast<uint32_t>(rs.samples_per_pixel)) {
-      uint32_t key = path_key(rs.seed, pixel, acc.samples);
-      if (!acc.add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, key), key, stats))) ++stats.invalid_samples;
+      PathSampler ps(rs, pixel, acc.samples);
+      if (!acc.add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats))) ++stats.invalid_samples;
       if (rs.adaptive() && acc.samples % static_cast<uint32_t>(rs.adaptive_batch) == 0 &&
           pixel_converged(acc.moments, acc.samples, rs.adaptive_tolerance))
         break;
