@@ -85,10 +85,7 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
         if (control.progress) control.progress(std::min(1.0, done / total_samples));
       });
     });
-    if (!complete) {
-      if (control.on_interrupt) control.on_interrupt(acc);
-      break;
-    }
+    if (!complete) break;
     acc.samples_done += len;
     if (adaptive_check_due(rs, acc.samples_done)) {
       std::erase_if(active, [&](uint32_t p) {
@@ -99,6 +96,7 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
     }
     if (control.on_pass) control.on_pass(acc);
   }
+  if (control.cancelled() && control.on_interrupt) control.on_interrupt(acc);
   for (const RenderStats& s : thread_stats) total += s;
 }
 
