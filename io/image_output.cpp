@@ -81,6 +81,12 @@ void write_sample_rate_image(const std::filesystem::path& path, const Film& film
   write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
 }
 
+void write_variance_image(const std::filesystem::path& path, const Film& film) {
+  std::vector<float3> grey(film.variance.size());
+  for (size_t i = 0; i < grey.size(); ++i) grey[i] = float3(film.variance[i]);
+  write_file_atomically(path, encode_pfm(film.width, film.height, grey));
+}
+
 std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int& height) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open PFM");

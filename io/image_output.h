@@ -26,6 +26,8 @@ uint8_t encode_channel(float linear);
 
 void write_image(const std::filesystem::path& path, const Film& film);
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
+/// Each pixel's variance of its mean illuminance as a grey PFM (for references).
+void write_variance_image(const std::filesystem::path& path, const Film& film);
 
 /// Linear RGB image file contents (exposed for tests).
 std::string encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb);

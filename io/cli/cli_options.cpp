@@ -38,6 +38,8 @@ std::string validate(const Options& o) {
   if (o.max_leaf_size < 1 || o.max_leaf_size > 64) return "--leaf-size must be 1..64";
   if (!(o.checkpoint_every > 0.0) || !std::isfinite(o.checkpoint_every))
     return "--checkpoint-every must be a positive number of seconds";
+  if (o.reference_image.empty() != o.convergence_csv.empty())
+    return "--reference and --convergence-csv go together";
   if (!o.checkpoint_file.empty() && o.engine == Engine::kReference)
     return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
   return {};
@@ -112,6 +114,11 @@ ParseResult parse_command_line(int argc, char** argv) {
   app.add_option("--checkpoint", o.checkpoint_file,
                  "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
   app.add_option("--checkpoint-every", o.checkpoint_every, "Seconds between checkpoint saves");
+  app.add_option("--variance", o.variance_file, "Also write each pixel's variance of its mean (grey PFM)");
+  app.add_option("--reference", o.reference_image, "Converged reference image (PFM) for --convergence-csv");
+  app.add_option("--convergence-csv", o.convergence_csv,
+                 "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
+  app.add_option("--label", o.label, "Method name written in the convergence CSV");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
 

@@ -21,6 +21,10 @@ struct Options {
   std::string write_camera_file;     ///< --write-camera
   std::string checkpoint_file;       ///< --checkpoint: save / resume accumulated state
   double checkpoint_every = 60.0;    ///< seconds between checkpoint saves
+  std::string variance_file;         ///< --variance: per-pixel variance PFM
+  std::string reference_image;       ///< --reference: converged image for --convergence-csv
+  std::string convergence_csv;       ///< --convergence-csv: error vs time log
+  std::string label = "render";      ///< --label: method name in the CSV
   RenderSettings settings;
   Engine engine = Engine::kReference;
   AccelChoice accel = AccelChoice::kBvh2;

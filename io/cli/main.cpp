@@ -17,6 +17,7 @@
 #include "io/collada_loader.h"
 #include "io/image_output.h"
 #include "io/scene_error.h"
+#include "convergence_run.h"
 #include "progress_bar.h"
 #include "render_engines.h"
 
@@ -100,10 +101,18 @@ int run(const cli::Options& o) {
                  "(use light sampling)\n",
                  scene.name.c_str());
 
+  if (!o.convergence_csv.empty()) {
+    check_writable(o.convergence_csv);
+    Camera camera = resolve_camera(scene, rs.width, rs.height, o.cs184_framing);
+    cli::EngineRunner engine(o, scene, camera);
+    install_stop_handlers();
+    return cli::run_convergence(o, engine, g_cancel);
+  }
   std::filesystem::path output = o.output_path.empty() ? default_output(o, scene) : std::filesystem::path(o.output_path);
   check_writable(output);
   if (rs.adaptive()) check_writable(rate_image_path(output));
   if (!o.write_camera_file.empty()) check_writable(o.write_camera_file);
+  if (!o.variance_file.empty()) check_writable(o.variance_file);
 
   Camera camera = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
                                         : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
@@ -125,7 +134,8 @@ int run(const cli::Options& o) {
   cli::ProgressBar bar(!o.quiet);
   control.progress = [&bar](double f) { bar.update(f); };
   install_stop_handlers();
-  RenderOutput out = cli::render_with_engine(o, scene, camera, control);
+  cli::EngineRunner engine(o, scene, camera);
+  RenderOutput out = engine.render(rs, control);
   bar.finish();
 
   if (out.cancelled) {
@@ -137,6 +147,7 @@ int run(const cli::Options& o) {
   }
   write_image(output, out.film);
   if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), out.film);
+  if (!o.variance_file.empty()) write_variance_image(o.variance_file, out.film);
   if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);
   if (!checkpoint.path.empty()) std::filesystem::remove(checkpoint.path);  // complete: nothing to resume
   if (!o.quiet) {

@@ -31,8 +31,13 @@ float3 reference_sample(const Scene& scene, const ReferenceAccel& accel, const C
 
 RenderOutput render_reference(const Scene& scene, const Camera& camera, const RenderSettings& rs,
                               const ReferenceOptions& options, const RenderControl& control) {
-  auto start = std::chrono::steady_clock::now();
   ReferenceAccel accel(scene, options.accel, options.max_leaf_size);
+  return render_reference(scene, accel, camera, rs, control);
+}
+
+RenderOutput render_reference(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
+                              const RenderSettings& rs, const RenderControl& control) {
+  auto start = std::chrono::steady_clock::now();
   ReferenceIntegrator<> integrator(scene, accel, rs);
   RenderOutput out;
   out.film = Film(rs.width, rs.height, static_cast<uint32_t>(rs.samples_per_pixel));

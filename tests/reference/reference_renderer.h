@@ -16,6 +16,10 @@ struct ReferenceOptions {
 RenderOutput render_reference(const Scene& scene, const Camera& camera, const RenderSettings& settings,
                               const ReferenceOptions& options = {}, const RenderControl& control = {});
 
+/// Same, tracing through an existing accelerator of `scene`.
+RenderOutput render_reference(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
+                              const RenderSettings& settings, const RenderControl& control = {});
+
 /// Radiance of one camera sample (pixel index y * width + x, sample s), the
 /// unit that the engines' per-sample agreement tests compare.
 float3 reference_sample(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
