@@ -26,7 +26,7 @@ struct Options {
   std::string convergence_csv;       ///< --convergence-csv: error vs time log
   std::string label = "render";      ///< --label: method name in the CSV
   RenderSettings settings;
-  Engine engine = Engine::kReference;
+  Engine engine = Engine::kWavefront;
   AccelChoice accel = AccelChoice::kBvh2;
   uint32_t max_leaf_size = 4;
   bool cs184_framing = false;
