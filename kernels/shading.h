@@ -37,6 +37,17 @@ inline bool emission_found_by_bounce(const Scene& s, const SurfacePoint& sp, con
   return m.is_emitter() && m.area_light < 0;
 }
 
+/// Whether the path traces one more BSDF ray from its last vertex (vertex ==
+/// max depth) only to collect emission that no light sampler covers: light
+/// from emissive meshes (not area lights) arriving after exactly max-depth
+/// bounces is found no other way. The hit-based estimators found it already.
+inline bool traces_final_bounce(const Scene& s, const RenderSettings& rs) {
+  if (rs.direct_by_hitting() || rs.max_depth < 1) return false;
+  for (const Material& m : s.materials)
+    if (m.is_emitter() && m.area_light < 0) return true;
+  return false;
+}
+
 /// cos / pdf of a direction found by the hit-based direct estimators: uniform
 /// hemisphere (pdf 1 / 2 pi) or cosine-weighted (pdf cos / pi).
 template <class T> inline T hit_sampling_weight(const RenderSettings& rs, T cos_theta) {

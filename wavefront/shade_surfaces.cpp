@@ -41,7 +41,10 @@ vfloatK dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
                   uint64_t lanes, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
-  const bool mis = rs.direct == DirectLighting::kMis && depth > 0 && rs.counts_bounce(static_cast<int>(depth));
+  // Under MIS the previous vertex's BSDF sample competes with light samples
+  // (unless it was the final, emission-only bounce).
+  const bool mis = rs.direct == DirectLighting::kMis && depth > 0 && static_cast<int>(depth) < rs.max_depth &&
+                   rs.counts_bounce(static_cast<int>(depth));
   for_each_lane(lanes, [&](size_t lane) {
     size_t i = i0 + lane;
     uint32_t path = rays.path[i];
@@ -176,8 +179,10 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
   const uint32_t vertex = depth + 1;
   const bool direct = rs.counts_bounce(static_cast<int>(vertex));
   const bool continues = static_cast<int>(vertex) < rs.max_depth;
-  const bool escapes_count =
-      depth == 0 || (rs.direct == DirectLighting::kMis && ctx.sky_visible && rs.counts_bounce(static_cast<int>(depth)));
+  const bool samples_bsdf = continues || (static_cast<int>(vertex) == rs.max_depth && ctx.final_bounce);
+  const bool escapes_count = depth == 0 || (rs.direct == DirectLighting::kMis && ctx.sky_visible &&
+                                            static_cast<int>(depth) < rs.max_depth &&
+                                            rs.counts_bounce(static_cast<int>(depth)));
   const size_t n = rays.size;
   out.shadows.reserve(n * ctx.shadow_rays_per_vertex);
   out.hemisphere.reserve(rs.direct_by_hitting() ? n * ctx.shadow_rays_per_vertex : 0);
@@ -189,7 +194,7 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
     vboolK emits = s.hit && as_float_mask(vintK::gather(mats.emits.data(), s.material) != vintK(0));
     uint64_t emission_lanes = bitmask(emits) | (escapes_count ? bitmask(s.valid && !s.hit) : 0);
     if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
-    if (!direct && !continues) continue;
+    if (!direct && !samples_bsdf) continue;
 
     vintK path = xsimd::select(as_int_mask(s.valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));
     Chunk c{s,
@@ -206,7 +211,7 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
       if (rs.direct_by_hitting()) sample_by_hitting(ctx, c, c.reflects, out.hemisphere);
       else sample_lights(ctx, c, c.reflects, rs.direct == DirectLighting::kMis && continues, out.shadows);
     }
-    if (continues) sample_bsdf(c, paths, out.continuations);
+    if (samples_bsdf) sample_bsdf(c, paths, out.continuations);
   }
 }
 

@@ -28,7 +28,13 @@ TriangleArrays::TriangleArrays(const Scene& s) {
 }
 
 WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs)
-    : scene(s), triangles(s), camera(c), settings(rs), materials(s), sky_visible(s.sky && !rs.cs184_invisible_sky) {
+    : scene(s),
+      triangles(s),
+      camera(c),
+      settings(rs),
+      materials(s),
+      sky_visible(s.sky && !rs.cs184_invisible_sky),
+      final_bounce(traces_final_bounce(s, rs)) {
   if (rs.direct == DirectLighting::kHemisphere) {
     shadow_rays_per_vertex = hemisphere_sample_count(s, rs);
   } else {

@@ -40,6 +40,7 @@ struct WaveContext {
   MaterialArrays materials;
   uint32_t shadow_rays_per_vertex;  ///< upper bound, for queue sizes
   bool sky_visible;                 ///< escaped rays see the sky
+  bool final_bounce;                ///< see traces_final_bounce (kernels/shading.h)
 
   WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs);
 };

@@ -143,14 +143,16 @@ float3 ReferenceIntegrator<Accel>::radiance(const Ray& camera_ray, const PathSam
   if (rs_.shading == ShadingMode::kNormals) return normal_shading_color(sp);
 
   const bool mis = rs_.direct == DirectLighting::kMis;
+  const bool final_bounce = traces_final_bounce(scene_, rs_);
   float3 L;
   float3 beta{1.0f};
   if (rs_.counts_bounce(0)) L += emitted_radiance(scene_, sp, ray, rs_);
   for (uint32_t vertex = 1;; ++vertex) {
     const bool continues = static_cast<int>(vertex) < rs_.max_depth;
+    const bool last = static_cast<int>(vertex) == rs_.max_depth;
     if (rs_.counts_bounce(static_cast<int>(vertex)))
       L += beta * direct_light(sp, ps, vertex, mis && continues, stats);
-    if (!continues) break;
+    if (!continues && !(last && final_bounce)) break;
 
     // Continue: a cosine-weighted bounce (f cos / pdf = albedo), then Russian
     // roulette from the second indirect bounce on.
@@ -171,12 +173,13 @@ float3 ReferenceIntegrator<Accel>::radiance(const Ray& camera_ray, const PathSam
     ray = Ray{offset_origin(sp, wi), 0.0f, wi, kInfinity};
     ++stats.bounce_rays;
     bool found = accel_.intersect(ray, hit, stats.intersection_tests);
-    if (mis && rs_.counts_bounce(static_cast<int>(vertex)))
+    if (mis && continues && rs_.counts_bounce(static_cast<int>(vertex)))
       L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bsdf_pdf);
     if (!found) break;
     sp = surface_at(scene_, ray, hit);
     if (emission_found_by_bounce(scene_, sp, rs_) && rs_.counts_bounce(static_cast<int>(vertex)))
       L += beta * emitted_radiance(scene_, sp, ray, rs_);
+    if (!continues) break;  // the final bounce only collects emission
   }
   return L;
 }
