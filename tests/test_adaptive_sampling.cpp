@@ -59,7 +59,8 @@ TEST(AdaptiveSampling, NoisyPixelsAreSampledToTheMaximum) {
   const Camera camera = test::look_at({0, 1, 0.5f}, {0, 0, 0}, 0.5f, 0.5f);  // sees only the plane
   for (const test::EngineUnderTest& e : test::engines_under_test()) {
     RenderOutput out = e.render(s, camera, adaptive_settings());
-    for (size_t i = 0; i < out.film.samples.size(); ++i) ASSERT_EQ(out.film.samples[i], uint32_t(kMax)) << e.name << " pixel " << i;
+    for (size_t i = 0; i < out.film.samples.size(); ++i)
+      ASSERT_EQ(out.film.samples[i], uint32_t(kMax)) << e.name << " pixel " << i;
     EXPECT_EQ(out.stats.samples, uint64_t(kMax) * out.film.samples.size());
   }
 }

@@ -73,8 +73,8 @@ TEST(EmitterFormFactor, FloorUnderAnEmissiveRectangle) {
         RenderSettings rs = test::fixed_settings(16, 16, 512);
         rs.max_depth = 2;
         rs.direct = direct;
-        std::string what = e.name + (direct == DirectLighting::kHemisphere ? ", hemisphere" : ", light sampling") +
-                           ", point (" + std::to_string(p.x) + ", " + std::to_string(p.z) + ")";
+        std::string what = e.name + (direct == DirectLighting::kHemisphere ? ", hemisphere" : ", light sampling");
+        what += ", point (" + std::to_string(p.x) + ", " + std::to_string(p.z) + ")";
         test::expect_film_estimates(e.render(s, camera, rs).film, expected, what);
       }
   }

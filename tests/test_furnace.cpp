@@ -87,7 +87,7 @@ Scene area_light_box_furnace() {
 
 /// Renders every case with depth <= max_depth_limit through `camera` with every engine.
 void expect_furnace(const Scene& scene, DirectLighting direct, int spp, const Camera& camera,
-                    int max_depth_limit = 1 << 30) {
+                    int max_depth_limit = 1 << 30, const std::string& note = "") {
   for (const test::EngineUnderTest& engine : test::engines_under_test())
     for (const FurnaceCase& c : kCases) {
       if (c.max_depth > max_depth_limit) continue;
@@ -97,7 +97,7 @@ void expect_furnace(const Scene& scene, DirectLighting direct, int spp, const Ca
       rs.max_depth = c.max_depth;
       rs.rr_continue = c.rr;
       RenderOutput out = engine.render(scene, camera, rs);
-      test::expect_film_estimates(out.film, furnace_radiance(c), engine.name + ", " + c.name);
+      test::expect_film_estimates(out.film, furnace_radiance(c), engine.name + ", " + c.name + note);
     }
 }
 
@@ -109,8 +109,11 @@ const Camera kWideView = test::look_at({0.1f, 0.2f, 0.3f}, {0.4f, -0.1f, -1.0f},
 // reference integrator stops before tracing the bounce ray at vertex m, so their
 // m-th bounce is lost: it renders Le sum_{k<m} rho^k (m = 1 gives Le, not
 // Le (1 + rho); only-m gives 0). Hemisphere sampling counts that bounce.
+const char* const kLastBounceBug = " [known renderer bug: the last bounce of emissive geometry is lost]";
+constexpr int kAnyDepth = 1 << 30;
+
 TEST(WhiteFurnace, EmissiveSphereWithLightSampling) {
-  expect_furnace(emissive_sphere_furnace(), DirectLighting::kLightSampling, 64, kWideView);
+  expect_furnace(emissive_sphere_furnace(), DirectLighting::kLightSampling, 64, kWideView, kAnyDepth, kLastBounceBug);
 }
 
 TEST(WhiteFurnace, EmissiveSphereWithHemisphereSampling) {
@@ -119,7 +122,7 @@ TEST(WhiteFurnace, EmissiveSphereWithHemisphereSampling) {
 
 // KNOWN RENDERER BUG: as EmissiveSphereWithLightSampling.
 TEST(WhiteFurnace, EmissiveBoxWithLightSampling) {
-  expect_furnace(emissive_box_furnace(), DirectLighting::kLightSampling, 64, kWideView);
+  expect_furnace(emissive_box_furnace(), DirectLighting::kLightSampling, 64, kWideView, kAnyDepth, kLastBounceBug);
 }
 
 TEST(WhiteFurnace, EmissiveBoxWithHemisphereSampling) {
@@ -171,8 +174,9 @@ TEST(SkyFurnace, PlaneUnderUniformSkyHasRadianceRhoTimesLs) {
           rs.direct = direct;
           rs.max_depth = m;
           rs.light_samples = l;
-          std::string what = engine.name + (direct == DirectLighting::kHemisphere ? ", hemisphere" : ", light sampling") +
-                             ", m=" + std::to_string(m) + ", l=" + std::to_string(l);
+          std::string what = engine.name;
+          what += direct == DirectLighting::kHemisphere ? ", hemisphere" : ", light sampling";
+          what += ", m=" + std::to_string(m) + ", l=" + std::to_string(l);
           test::expect_film_estimates(engine.render(scene, down, rs).film, kPlaneRho * kSkyLs, what);
         }
 }

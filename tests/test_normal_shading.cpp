@@ -30,7 +30,8 @@ float3 colour_of(float3 n) { return n * 0.5f + float3(0.5f); }
 TEST(NormalShading, InterpolatedMeshNormalFromBothSides) {
   Scene s;
   const float3 p0{-1, 0, -1}, p1{1, 0, -1}, p2{0, 0, 1};
-  const float3 n0 = normalize(float3{0.2f, 1, 0}), n1 = normalize(float3{-0.5f, 1, 0.3f}), n2 = normalize(float3{0, 1, -0.6f});
+  const float3 n0 = normalize(float3{0.2f, 1, 0}), n1 = normalize(float3{-0.5f, 1, 0.3f});
+  const float3 n2 = normalize(float3{0, 1, -0.6f});
   s.positions = {p0, p1, p2};
   s.normals = {n0, n1, n2};
   s.triangles.push_back({0, 1, 2});

@@ -93,7 +93,9 @@ TEST(Warps, UnitLengthAndInTheirDomainAtTheEdgesOfTheSquare) {
   for (int i = 1; i < 64; ++i) grid.push_back(i / 64.0f);
   for (float a : grid)
     for (float b : grid) {
-      for (Vec3T<float> d : {sample_uniform_hemisphere(a, b), sample_cosine_hemisphere(a, b), sample_uniform_sphere(a, b)}) {
+      const Vec3T<float> warped[] = {sample_uniform_hemisphere(a, b), sample_cosine_hemisphere(a, b),
+                                     sample_uniform_sphere(a, b)};
+      for (const Vec3T<float>& d : warped) {
         float len = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
         ASSERT_NEAR(len, 1.0f, 1e-6f) << a << ", " << b;
       }

@@ -273,7 +273,7 @@ TEST(Watertightness, RaysThroughSharedEdgesAndVerticesNeverSlipThrough) {
       }
     }
   }
-  EXPECT_EQ(misses, 0) << "of " << rays << " rays";
+  EXPECT_EQ(misses, 0) << "of " << rays << " rays [known renderer bug: edge functions contracted into FMAs]";
 }
 
 }  // namespace
