@@ -13,25 +13,20 @@
 
 namespace pt {
 
-/// Key of a pixel (the Sobol seeds of its dimension pairs derive from it).
-template <class U> inline U pixel_key(uint32_t seed, U pixel) {
-  return hash32(pixel ^ U(hash32(seed ^ 0x7f4a7c15u)));
-}
-
 template <class U, class F>
 struct PathSamplerT {
-  U key;        ///< path_key(seed, pixel, sample)
-  U pixel;      ///< pixel_key(seed, pixel)
+  U pixel;      ///< pixel_key(seed, pixel index)
   U sample;     ///< sample index
+  U sample_k;   ///< sample_key(sample index)
   bool sobol = false;
 
   PathSamplerT(const RenderSettings& rs, U pixel_index, U sample_index)
-      : key(path_key(rs.seed, pixel_index, sample_index)),
-        pixel(pixel_key(rs.seed, pixel_index)),
+      : pixel(pixel_key(rs.seed, pixel_index)),
         sample(sample_index),
+        sample_k(sample_key(sample_index)),
         sobol(rs.sampler == PixelSampler::kSobol) {}
 
-  F get1d(uint32_t bounce, uint32_t dim) const { return random_float<U, F>(key, dimension_key(bounce, dim)); }
+  F get1d(uint32_t bounce, uint32_t dim) const { return random_float<U, F>(pixel, sample_k, dimension_key(bounce, dim)); }
 
   /// Dimensions (dim, dim + 1) at `bounce`.
   void get2d(uint32_t bounce, uint32_t dim, F& u1, F& u2) const {

@@ -67,13 +67,8 @@ template <class U, class F> inline void owen_sobol_2d(U index, U seed, F& u1, F&
   U s1 = hash32(seed ^ U(0x68bc21ebu)), s2 = hash32(seed ^ U(0x02e5be93u));
   U x = nested_uniform_scramble(reverse_bits32(i), s1);
   U y = nested_uniform_scramble(sobol_dimension1(i), s2);
-  auto to_unit = [](U bits) -> F {
-    U top = bits >> 8;
-    if constexpr (std::is_arithmetic_v<U>) return static_cast<F>(top) * 0x1p-24f;
-    else return xsimd::batch_cast<float>(xsimd::batch_cast<int32_t>(top)) * F(0x1p-24f);
-  };
-  u1 = to_unit(x);
-  u2 = to_unit(y);
+  u1 = bits_to_unit<U, F>(x);
+  u2 = bits_to_unit<U, F>(y);
 }
 
 }  // namespace pt

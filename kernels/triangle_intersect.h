@@ -61,14 +61,12 @@ inline bool intersect_triangle_watertight(const float3& org, const WatertightRay
   float ax = a[w.kx] - w.sx * a[w.kz], ay = a[w.ky] - w.sy * a[w.kz];
   float bx = b[w.kx] - w.sx * b[w.kz], by = b[w.ky] - w.sy * b[w.kz];
   float cx = c[w.kx] - w.sx * c[w.kz], cy = c[w.ky] - w.sy * c[w.kz];
-  float U = cx * by - cy * bx;
-  float V = ax * cy - ay * cx;
-  float W = bx * ay - by * ax;
-  if (U == 0.0f || V == 0.0f || W == 0.0f) {  // fall back to double on edges
-    U = static_cast<float>(double(cx) * by - double(cy) * bx);
-    V = static_cast<float>(double(ax) * cy - double(ay) * cx);
-    W = static_cast<float>(double(bx) * ay - double(by) * ax);
-  }
+  // Edge functions from double products: exact for float inputs, so the shared
+  // edge of two triangles gets exactly opposite values whatever the compiler
+  // does with multiply-adds.
+  float U = static_cast<float>(double(cx) * by - double(cy) * bx);
+  float V = static_cast<float>(double(ax) * cy - double(ay) * cx);
+  float W = static_cast<float>(double(bx) * ay - double(by) * ax);
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
   float det = U + V + W;
   if (!(det != 0.0f)) return false;

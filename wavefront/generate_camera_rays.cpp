@@ -29,7 +29,8 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
       fy[lane] = static_cast<float>(pixel / static_cast<uint32_t>(rs.width));
     }
     PathSamplerT<vuintK, vfloatK> ps(rs, vuintK::load_aligned(&paths.pixel[i0]), vuintK::load_aligned(&paths.sample[i0]));
-    ps.key.store_aligned(&paths.key[i0]);
+    ps.pixel.store_aligned(&paths.pixel_key[i0]);
+    ps.sample_k.store_aligned(&paths.sample_key[i0]);
     vfloatK jx, jy;
     ps.get2d(dims::kCameraBounce, dims::kPixelJitter, jx, jy);
     vfloatK sx = (vfloatK::load_aligned(fx) + jx) / width;

@@ -1,0 +1,45 @@
+// Film checks: per-channel pixel statistics and exact comparisons.
+#include "film_checks.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace pt::test {
+
+MeanError film_channel_mean(const Film& film, int channel) {
+  std::vector<double> v;
+  v.reserve(film.radiance.size());
+  for (const float3& p : film.radiance) v.push_back(p[channel]);
+  return mean_and_error(v);
+}
+
+void expect_film_estimates(const Film& film, const float3& expected, const std::string& what,
+                           double max_relative_error) {
+  for (int c = 0; c < 3; ++c) {
+    if (expected[c] == 0.0f) {
+      for (const float3& p : film.radiance) ASSERT_EQ(p[c], 0.0f) << what << ", channel " << c << " must be black";
+      continue;
+    }
+    MeanError m = film_channel_mean(film, c);
+    EXPECT_LT(std::fabs(z_score(m, expected[c])), kZ5)
+        << what << ", channel " << c << ": mean " << m.mean << " +- " << m.standard_error << " vs exact "
+        << expected[c] << " (z = " << z_score(m, expected[c]) << ")";
+    EXPECT_LT(m.standard_error, max_relative_error * expected[c])
+        << what << ", channel " << c << ": too noisy to mean anything";
+  }
+}
+
+void expect_film_equals(const Film& film, const float3& expected, const std::string& what, double relative) {
+  int reported = 0;
+  for (size_t i = 0; i < film.radiance.size() && reported < 5; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (!(std::fabs(film.radiance[i][c] - expected[c]) <= relative * std::fabs(expected[c]))) {
+        ADD_FAILURE() << what << ", pixel " << i << " channel " << c << ": " << film.radiance[i][c] << " vs exact "
+                      << expected[c];
+        ++reported;
+      }
+}
+
+}  // namespace pt::test

@@ -1,0 +1,27 @@
+// Checks of a rendered film against a closed form, shared by the light-
+// transport tests: pixels that all see the same radiance are independent
+// estimates of it (each pixel draws its own random numbers), so their mean
+// and standard error give a z-test; an exact answer is checked exactly.
+#pragma once
+
+#include <string>
+
+#include "kernels/film.h"
+#include "statistics.h"
+
+namespace pt::test {
+
+/// Mean and standard error over all pixels of one channel (0, 1, 2).
+MeanError film_channel_mean(const Film& film, int channel);
+
+/// Every pixel is an independent, unbiased estimate of `expected`: per channel,
+/// |mean - expected| < kZ5 standard errors (false failure 5.7e-7 per channel)
+/// and the standard error is below `max_relative_error` of expected (so the
+/// test has power). An expected channel of exactly 0 must be 0 in every pixel.
+void expect_film_estimates(const Film& film, const float3& expected, const std::string& what,
+                           double max_relative_error = 0.01);
+
+/// Every pixel equals `expected` to `relative` accuracy per channel.
+void expect_film_equals(const Film& film, const float3& expected, const std::string& what, double relative = 1e-6);
+
+}  // namespace pt::test
