@@ -32,7 +32,7 @@ inline size_t round_up_to_lanes(size_t n) { return (n + kLanes - 1) / kLanes * k
 
 #define PT_SOA_ARRAY(type, name) ::pt::wf::AlignedVector<type> name;
 #define PT_SOA_ITEM_FIELD(type, name) type name;
-#define PT_SOA_RESIZE(type, name) name.assign(n, type{});
+#define PT_SOA_RESIZE(type, name) name.resize(n);
 #define PT_SOA_BYTES(type, name) +name.capacity() * sizeof(type)
 #define PT_SOA_GET(type, name) item.name = name[i];
 #define PT_SOA_SET(type, name) name[i] = item.name;
@@ -46,7 +46,8 @@ inline size_t round_up_to_lanes(size_t n) { return (n + kLanes - 1) / kLanes * k
   };                                                                                 \
   size_t size = 0;                                                                   \
   size_t capacity = 0;                                                               \
-  /** Room for n items; arrays are padded to whole SIMD batches. */                  \
+  /** Room for n items (keeping the current ones); arrays are padded to whole   */ \
+  /** SIMD batches. */                                                               \
   void reserve(size_t n_items) {                                                     \
     size_t n = ::pt::wf::round_up_to_lanes(n_items);                                 \
     if (n > capacity) {                                                              \
@@ -61,6 +62,9 @@ inline size_t round_up_to_lanes(size_t n) { return (n + kLanes - 1) / kLanes * k
     return item;                                                                     \
   }                                                                                  \
   void set(size_t i, const Item& item) { FIELDS(PT_SOA_SET) }                        \
-  /** Appends; the caller reserved enough room. */                                   \
-  void push(const Item& item) { set(size++, item); }                                 \
+  /** Appends, growing if the caller's reservation was short. */                    \
+  void push(const Item& item) {                                                      \
+    if (size >= capacity) reserve(2 * capacity + ::pt::kLanes);                      \
+    set(size++, item);                                                               \
+  }                                                                                  \
   size_t bytes() const { return 0 FIELDS(PT_SOA_BYTES); }

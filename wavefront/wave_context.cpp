@@ -35,7 +35,7 @@ WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& 
       materials(s),
       sky_visible(s.sky && !rs.cs184_invisible_sky),
       final_bounce(traces_final_bounce(s, rs)) {
-  if (rs.direct == DirectLighting::kHemisphere) {
+  if (rs.direct_by_hitting()) {
     shadow_rays_per_vertex = hemisphere_sample_count(s, rs);
   } else {
     size_t sampled = (s.area_lights.size() + (s.sky ? 1 : 0)) * static_cast<size_t>(rs.light_samples);
