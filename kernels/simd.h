@@ -1,7 +1,9 @@
 // The one place that names SIMD types. N = BVH branching factor (4), K = lanes of
 // the uniform (across-rays) stages: the widest float batch xsimd picks for the
 // build target. Everything else says vfloat4 / vfloatK and never touches
-// intrinsics directly.
+// intrinsics directly; the few operations xsimd 8.1 lacks (mask extraction,
+// horizontal minimum, a contraction barrier, prefetch, denormal mode) are
+// wrapped here.
 #pragma once
 
 #include <cstddef>
@@ -26,7 +28,32 @@ inline constexpr std::size_t kBvhWidth = 4;
 inline constexpr std::size_t kLanes = vfloatK::size;
 
 /// Bit mask of the true lanes of a 4-wide comparison (lane i -> bit i).
-/// xsimd 8.1 has no portable mask extraction; this is the one raw intrinsic.
+/// xsimd 8.1 has no portable mask extraction.
 inline uint32_t movemask(vbool4 m) { return static_cast<uint32_t>(_mm_movemask_ps(m)); }
+
+/// Smallest of the four lanes; the lanes must not be NaN.
+inline float reduce_min(vfloat4 v) {
+  __m128 a = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+  a = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtss_f32(a);
+}
+
+/// Returns v unchanged, rounded to float: the compiler cannot contract a
+/// product passed through here into an FMA with what follows. Watertight edge
+/// functions a*b - c*d need both products rounded so that the two triangles
+/// sharing an edge compute exactly opposite values.
+inline vfloat4 keep_rounded(vfloat4 v) {
+  __m128 x = v;
+  asm("" : "+x"(x));
+  return x;
+}
+
+/// Hints the cache to load the 64-byte line holding p.
+inline void prefetch_l1(const void* p) { _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0); }
+
+/// Flushes denormal results and inputs to zero on the calling thread (what
+/// Embree asks of its callers). Results change only where a value would be
+/// denormal, below 1.2e-38 in magnitude.
+inline void enable_flush_denormals_to_zero() { _mm_setcsr(_mm_getcsr() | 0x8040u); }
 
 }  // namespace pt
