@@ -134,6 +134,17 @@ const std::string& SceneFixture::validate(const TracerEntry& t, RayKind kind) {
   return (validated_[key] = {error, bad}).first;
 }
 
+TraversalCounters SceneFixture::bvh4_work(RayKind kind, bool watertight) const {
+  const SceneBvh4& bvh = watertight ? *bvh4_watertight_ : *bvh4_;
+  TraversalCounters c;
+  for (const Ray& r : sets_[int(kind)].rays) {
+    Hit h;
+    if (kind == RayKind::kShadow) bvh.occluded(r, c);
+    else bvh.intersect(r, h, c);
+  }
+  return c;
+}
+
 size_t SceneFixture::mismatches(const TracerEntry& t, RayKind kind) const {
   auto it = validated_.find({t.name, int(kind)});
   return it == validated_.end() ? 0 : it->second.second;

@@ -51,6 +51,8 @@ class SceneFixture {
   /// Compares the tracer's answers on the whole set (or its prefix) with the
   /// oracle's; "" when they agree, else what differs. Cached per (tracer, kind).
   const std::string& validate(const TracerEntry& t, RayKind kind);
+  /// Inner nodes visited and triangles tested by the BVH4 over a whole set.
+  TraversalCounters bvh4_work(RayKind kind, bool watertight) const;
   /// Rays that differed in the last validation of (tracer, kind).
   size_t mismatches(const TracerEntry& t, RayKind kind) const;
 

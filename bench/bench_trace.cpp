@@ -71,6 +71,11 @@ void trace_benchmark(benchmark::State& state, SceneSpec spec, RayKind kind, std:
   state.counters["rays_per_s"] = benchmark::Counter(double(n) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["rays"] = double(n);
   state.counters["mismatches"] = double(f->mismatches(*t, kind));
+  if (tracer.rfind("bvh4", 0) == 0) {
+    TraversalCounters c = f->bvh4_work(kind, tracer == "bvh4_watertight");
+    state.counters["nodes_per_ray"] = double(c.nodes) / f->rays(kind).rays.size();
+    state.counters["triangles_per_ray"] = double(c.primitives) / f->rays(kind).rays.size();
+  }
 }
 
 void build_bvh4_benchmark(benchmark::State& state, SceneSpec spec, int threads) {

@@ -45,6 +45,10 @@ struct SahBuildOptions {
   uint32_t max_leaf_size = 8;   ///< larger ranges are always split
   uint32_t leaf_block = 4;      ///< a leaf of n primitives costs ceil(n / leaf_block)
   float traversal_cost = 1.0f;  ///< cost of visiting one inner node
+  /// Typical ray length relative to the scene's mean extent; 0: classic SAH
+  /// (rays from far outside). A segment of length l starting inside the scene
+  /// visits box B with probability ~ area(B) l / 2 + volume(B).
+  float ray_length = 0.0f;
 };
 inline constexpr uint32_t kMaxSahBins = 64;
 

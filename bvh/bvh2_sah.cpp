@@ -48,11 +48,11 @@ struct Bounds4 {
     lower = xsimd::min(lower, b.lower); upper = xsimd::max(upper, b.upper);
     clower = xsimd::min(clower, b.clower); cupper = xsimd::max(cupper, b.cupper);
   }
-  /// Half surface area of the primitive box (0 when empty).
-  float half_area() const {
+  /// Half surface area plus volume_weight times volume of the primitive box (0 when empty).
+  float weight(float volume_weight) const {
     alignas(16) float e[4];
     xsimd::max(upper - lower, vfloat4(0.0f)).store_aligned(e);
-    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+    return e[0] * e[1] + e[1] * e[2] + e[2] * e[0] + volume_weight * e[0] * e[1] * e[2];
   }
   BBox box() const {
     alignas(16) float lo[4], hi[4];
@@ -140,6 +140,7 @@ class SahBuilder {
 
   static constexpr uint32_t kLeaf = 0xFFFFFFFFu;
   SahBuildOptions opt_;
+  float vw_ = 0.0f;  // weight of box volume against half area
   uint32_t size_;
   std::unique_ptr<PrimRef[]> refs_;    // uninitialised until filled
   std::unique_ptr<SlotNode[]> slots_;  // slot m: the inner node split at m
@@ -190,7 +191,7 @@ Split SahBuilder::best_split(const Range& r) const {
     for (uint32_t i = nb - 1; i > 0; --i) {
       acc.add(set.bin[a][i]);
       n += set.count[a][i];
-      right_area[i] = acc.half_area();
+      right_area[i] = acc.weight(vw_);
       right_count[i] = n;
     }
     Bounds4 left = Bounds4::empty();
@@ -199,13 +200,13 @@ Split SahBuilder::best_split(const Range& r) const {
       left.add(set.bin[a][i]);
       nl += set.count[a][i];
       if (nl == 0 || right_count[i + 1] == 0) continue;
-      float cost = left.half_area() * blocks(nl) + right_area[i + 1] * blocks(right_count[i + 1]);
+      float cost = left.weight(vw_) * blocks(nl) + right_area[i + 1] * blocks(right_count[i + 1]);
       if (cost < best.cost) { best.cost = cost; best.axis = a; best.bin = i; best.left = left; best.left_count = nl; }
     }
   }
   if (best.axis < 0) return best;
   for (uint32_t i = best.bin + 1; i < nb; ++i) best.right.add(set.bin[best.axis][i]);
-  float parent_area = r.bounds.half_area();
+  float parent_area = r.bounds.weight(vw_);
   best.cost = opt_.traversal_cost + (parent_area > 0.0f ? best.cost / parent_area : float(blocks(r.size())));
   return best;
 }
@@ -282,6 +283,12 @@ Bvh2 SahBuilder::run() {
         return b;
       },
       [](Bounds4 a, const Bounds4& b) { a.add(b); return a; });
+  if (opt_.ray_length > 0.0f) {
+    alignas(16) float e[4];
+    (root.bounds.upper - root.bounds.lower).store_aligned(e);
+    float mean_extent = (e[0] + e[1] + e[2]) / 3.0f;
+    vw_ = mean_extent > 0.0f ? 2.0f / (opt_.ray_length * mean_extent) : 0.0f;
+  }
   uint32_t root_slot = n == 0 ? kLeaf : build(root, 1);
 
   bvh.prim_order.resize(n);

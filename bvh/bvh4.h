@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "huge_page_allocator.h"
 #include "kernels/simd.h"
 
 namespace pt {
@@ -61,8 +62,8 @@ constexpr uint32_t leaf_block_count(uint32_t ref) { return ((ref >> 1) & 15u) + 
 /// The whole structure. `root` is an inner node or a leaf; with no triangles,
 /// blocks is empty and nothing is ever hit.
 struct Bvh4 {
-  std::vector<Bvh4Node> nodes;
-  std::vector<TriangleBlock4> blocks;
+  std::vector<Bvh4Node, HugePageAllocator<Bvh4Node>> nodes;
+  std::vector<TriangleBlock4, HugePageAllocator<TriangleBlock4>> blocks;
   uint32_t root = bvh4_ref::kEmptyRef;
   TriangleForm form = TriangleForm::kMollerTrumbore;
 

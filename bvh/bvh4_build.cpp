@@ -91,13 +91,15 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
   Bvh4 bvh;
   bvh.form = options.watertight ? TriangleForm::kWatertight : TriangleForm::kMollerTrumbore;
   SahBuildOptions sah = options.sah;
+  CollapseCosts collapse = options.collapse;
   sah.max_leaf_size = std::clamp<uint32_t>(sah.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
+  collapse.max_leaf_size = std::clamp<uint32_t>(collapse.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
   Bvh4Topology topo;
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     Inputs in = gather_inputs(positions, triangles);
     Bvh2 bvh2 = build_bvh2_sah(in.boxes, in.centers, sah);
-    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs));
+    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse);
     fill_blocks(bvh, topo.block_prims, in, positions, triangles);
     if (stats) stats->triangles = static_cast<uint32_t>(in.ids.size());
   });

@@ -9,14 +9,22 @@
 
 #include "bvh2.h"
 #include "bvh4.h"
+#include "bvh4_collapse.h"
 #include "kernels/scene.h"
 
 namespace pt {
 
+/// The defaults (tuned with bench_trace on the CS184 scenes): a binary tree
+/// down to single primitives, so that the collapse picks the leaves (up to 16
+/// primitives); a leaf costs a fixed 0.7 (one memory latency: its blocks are
+/// contiguous and load together) plus 0.3 per block, a node 1; and a cost
+/// model for rays that start inside the scene with a length of about half its
+/// mean extent (path-tracing bounce and shadow rays).
 struct Bvh4Options {
   int threads = 0;          ///< build threads; 0: all available
   bool watertight = false;  ///< leaves for the watertight test instead of Moller-Trumbore
-  SahBuildOptions sah;      ///< max_leaf_size is capped at 64 (16 blocks)
+  SahBuildOptions sah{.bins = 32, .max_leaf_size = 1, .leaf_block = 4, .traversal_cost = 1.0f, .ray_length = 0.5f};
+  CollapseCosts collapse{.node = 1.0f, .leaf = 0.7f, .block = 0.3f, .max_leaf_size = 16, .ray_length = 0.5f};
 };
 
 struct Bvh4BuildStats {

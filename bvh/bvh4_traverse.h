@@ -151,8 +151,12 @@ inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
       vfloat4 tnear;
       uint32_t mask = intersect_node(node, nr, tmin, tmax, tnear);
       if (mask == 0) goto pop;
-      cur = node.child[std::countr_zero(mask)];
-      for (mask &= mask - 1; mask != 0; mask &= mask - 1) *sp++ = node.child[std::countr_zero(mask)];
+      for (;;) {  // the last child hit continues, the others wait on the stack
+        cur = node.child[std::countr_zero(mask)];
+        mask &= mask - 1;
+        if (mask == 0) break;
+        *sp++ = cur;
+      }
     }
     {
       const TriangleBlock4* blocks = bvh.leaf_blocks(cur);

@@ -98,7 +98,9 @@ TEST(Bvh4BuiltInScene, MatchesBruteForce) {
 
 TEST(Bvh4Counters, CountedQueriesGiveTheSameAnswersAndCountWork) {
   Scene scene = load_collada_file(project_scene("cornell_spheres.dae")).scene;
-  SceneBvh4 bvh(scene);
+  Bvh4Options small_leaves;  // 12 triangles would otherwise fit one leaf
+  small_leaves.collapse.max_leaf_size = 4;
+  SceneBvh4 bvh(scene, small_leaves);
   std::vector<Ray> rays = uniform_random_rays(scene, 500, 3);
   ASSERT_FALSE(bvh4_ref::is_leaf(bvh.bvh().root));
   for (const Ray& r : rays) {
