@@ -20,6 +20,7 @@ namespace pt {
 namespace {
 
 constexpr uint32_t kParallelTaskSize = 4096;    // subtrees at least this big become tasks
+constexpr uint32_t kSweepMax = 16;               // ranges this small get the exact sweep
 constexpr uint32_t kParallelBinSize = 1u << 16;  // ranges at least this big bin in parallel
 constexpr uint32_t kBinGrain = 1u << 14;
 
@@ -81,7 +82,7 @@ struct BinSet {
   Bounds4 bin[3][kMaxSahBins];
   uint32_t count[3][kMaxSahBins];
 
-  explicit BinSet(uint32_t bins) {
+  void clear(uint32_t bins) {
     for (int a = 0; a < 3; ++a)
       for (uint32_t i = 0; i < bins; ++i) { bin[a][i] = Bounds4::empty(); count[a][i] = 0; }
   }
@@ -108,7 +109,8 @@ struct Range {
 
 struct Split {
   int axis = -1;
-  uint32_t bin = 0;  ///< bins 0..bin go left
+  uint32_t bin = 0;       ///< bins 0..bin go left
+  bool ordered = false;   ///< the range is already partitioned: left_count first
   float cost = INFINITY;
   Bounds4 left = Bounds4::empty(), right = Bounds4::empty();
   uint32_t left_count = 0;
@@ -130,8 +132,9 @@ class SahBuilder {
   uint32_t blocks(uint32_t n) const { return (n + opt_.leaf_block - 1) / opt_.leaf_block; }
   /// Small ranges use fewer bins: clearing bins then costs more than binning.
   uint32_t bins_for(uint32_t n) const { return std::min(opt_.bins, std::max(n, 4u)); }
-  BinSet bin_range(const Range& r, const BinMapping& m) const;
+  void bin_range(const Range& r, const BinMapping& m, BinSet& set) const;
   Split best_split(const Range& r) const;
+  Split sweep_split(const Range& r) const;
   uint32_t partition(const Range& r, const Split& s) const;
   Split median_split(const Range& r) const;
   /// Builds the subtree of `r` and returns its slot, or kLeaf when `r` is a leaf.
@@ -165,23 +168,30 @@ SahBuilder::SahBuilder(std::span<const BBox> boxes, std::span<const float3> cent
   });
 }
 
-BinSet SahBuilder::bin_range(const Range& r, const BinMapping& m) const {
-  auto bin_part = [&](uint32_t b, uint32_t e, BinSet set) {
-    for (uint32_t i = b; i < e; ++i) set.add(refs_[i], m);
-    return set;
-  };
-  if (r.size() < kParallelBinSize) return bin_part(r.begin, r.end, BinSet(m.bins));
+void SahBuilder::bin_range(const Range& r, const BinMapping& m, BinSet& set) const {
+  set.clear(m.bins);
+  if (r.size() < kParallelBinSize) {
+    for (uint32_t i = r.begin; i < r.end; ++i) set.add(refs_[i], m);
+    return;
+  }
   // Min, max and integer sums: the result does not depend on how TBB splits the range.
-  return tbb::parallel_reduce(
-      tbb::blocked_range<uint32_t>(r.begin, r.end, kBinGrain), BinSet(m.bins),
-      [&](const tbb::blocked_range<uint32_t>& br, BinSet set) { return bin_part(br.begin(), br.end(), set); },
+  auto empty = std::make_unique<BinSet>();
+  empty->clear(m.bins);
+  set = tbb::parallel_reduce(
+      tbb::blocked_range<uint32_t>(r.begin, r.end, kBinGrain), *empty,
+      [&](const tbb::blocked_range<uint32_t>& br, BinSet part) {
+        for (uint32_t i = br.begin(); i != br.end(); ++i) part.add(refs_[i], m);
+        return part;
+      },
       [&](BinSet a, const BinSet& b) { a.add(b, m.bins); return a; });
 }
 
 Split SahBuilder::best_split(const Range& r) const {
+  if (r.size() <= kSweepMax) return sweep_split(r);
   const uint32_t nb = bins_for(r.size());
   BinMapping m(r.bounds, nb);
-  BinSet set = bin_range(r, m);
+  BinSet set;  // 13 KB, uninitialised but for the bins in use
+  bin_range(r, m, set);
   Split best;
   for (int a = 0; a < 3; ++a) {
     float right_area[kMaxSahBins];
@@ -222,6 +232,43 @@ uint32_t SahBuilder::partition(const Range& r, const Split& s) const {
   return static_cast<uint32_t>(mid - refs_.get());
 }
 
+/// Exact SAH over every object split of a small range along each axis; the
+/// range is left sorted along the chosen axis.
+Split SahBuilder::sweep_split(const Range& r) const {
+  const uint32_t n = r.size();
+  PrimRef* first = refs_.get() + r.begin;
+  uint8_t order[3][kSweepMax];
+  Split best;
+  for (int a = 0; a < 3; ++a) {
+    auto before = [&](uint8_t x, uint8_t y) {
+      const PrimRef &p = first[x], &q = first[y];
+      return p.center[a] < q.center[a] || (p.center[a] == q.center[a] && p.id() < q.id());
+    };
+    for (uint32_t i = 0; i < n; ++i) order[a][i] = uint8_t(i);
+    std::sort(order[a], order[a] + n, before);
+    float right_weight[kSweepMax];
+    Bounds4 acc = Bounds4::empty();
+    for (uint32_t i = n - 1; i > 0; --i) {
+      acc.add(first[order[a][i]]);
+      right_weight[i] = acc.weight(vw_);
+    }
+    Bounds4 left = Bounds4::empty();
+    for (uint32_t i = 1; i < n; ++i) {
+      left.add(first[order[a][i - 1]]);
+      float cost = left.weight(vw_) * blocks(i) + right_weight[i] * blocks(n - i);
+      if (cost < best.cost) { best.cost = cost; best.axis = a; best.left_count = i; best.left = left; }
+    }
+  }
+  PrimRef sorted[kSweepMax];
+  for (uint32_t i = 0; i < n; ++i) sorted[i] = first[order[best.axis][i]];
+  for (uint32_t i = 0; i < n; ++i) first[i] = sorted[i];
+  for (uint32_t i = best.left_count; i < n; ++i) best.right.add(first[i]);
+  best.ordered = true;
+  float parent_area = r.bounds.weight(vw_);
+  best.cost = opt_.traversal_cost + (parent_area > 0.0f ? best.cost / parent_area : float(blocks(n)));
+  return best;
+}
+
 /// Object median along the widest centroid axis (or by index if all centroids coincide).
 Split SahBuilder::median_split(const Range& r) const {
   alignas(16) float lo[4], hi[4];
@@ -255,7 +302,9 @@ uint32_t SahBuilder::build(const Range& r, int depth) {
   Split s = near_limit ? Split{} : best_split(r);
   if (!near_limit && n <= opt_.max_leaf_size && !(s.cost < float(blocks(n)))) return kLeaf;
   uint32_t mid = 0;
-  if (s.axis >= 0) {
+  if (s.ordered) {
+    mid = r.begin + s.left_count;
+  } else if (s.axis >= 0) {
     mid = partition(r, s);
   } else {
     s = median_split(r);

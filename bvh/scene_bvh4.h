@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bvh4.h"
@@ -39,6 +40,14 @@ class SceneBvh4 {
   /// Same queries, also counting nodes visited and primitives tested.
   bool intersect(const Ray& ray, Hit& hit, TraversalCounters& c) const { return intersect_counted(ray, hit, c); }
   bool occluded(const Ray& ray, TraversalCounters& c) const { return occluded_counted(ray, c); }
+
+  /// Closest hits of rays[i] into hits[i] for every i. Runs of kLanes consecutive
+  /// rays are traced as packets: fastest when they are coherent (camera rays of
+  /// a pixel block). Same answers as the single-ray query.
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
+  /// One packet: traces rays[i] into hits[i] for the lanes i < kLanes set in
+  /// `lanes`; the other entries of both arrays are neither read nor written.
+  void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const;
 
   const Bvh4BuildStats& stats() const { return stats_; }
   const Bvh4& bvh() const { return bvh_; }

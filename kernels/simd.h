@@ -31,6 +31,66 @@ inline constexpr std::size_t kLanes = vfloatK::size;
 /// xsimd 8.1 has no portable mask extraction.
 inline uint32_t movemask(vbool4 m) { return static_cast<uint32_t>(_mm_movemask_ps(m)); }
 
+/// Bit mask of the true lanes of a K-wide comparison (lane i -> bit i).
+inline uint32_t lane_mask(vboolK m) {
+#if XSIMD_WITH_AVX512F
+  return static_cast<uint32_t>(static_cast<__mmask16>(m));
+#elif XSIMD_WITH_AVX
+  return static_cast<uint32_t>(_mm256_movemask_ps(m));
+#else
+  return static_cast<uint32_t>(_mm_movemask_ps(m));
+#endif
+}
+
+/// The K-wide mask whose lane i is bit i of `bits`.
+inline vboolK lanes_of_mask(uint32_t bits) {
+#if XSIMD_WITH_AVX512F
+  return vboolK(static_cast<__mmask16>(bits));
+#else
+  alignas(64) int32_t one_bit[kLanes];
+  for (std::size_t i = 0; i < kLanes; ++i) one_bit[i] = int32_t(1u << i);
+  vintK selected = vintK(static_cast<int32_t>(bits)) & vintK::load_aligned(one_bit);
+  return xsimd::bool_cast(selected != vintK(0));
+#endif
+}
+
+#if XSIMD_WITH_AVX512F
+/// The upper and lower 256-bit halves of a 16-lane batch.
+inline __m256 upper_half(__m512 v) { return _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)); }
+#endif
+
+/// Smallest of the K lanes; the lanes must not be NaN.
+inline float reduce_min_k(vfloatK v) {
+#if XSIMD_WITH_AVX512F
+  __m256 a = _mm256_min_ps(_mm512_castps512_ps256(v), upper_half(v));
+  __m128 b = _mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+  b = _mm_min_ps(b, _mm_movehl_ps(b, b));
+  return _mm_cvtss_f32(_mm_min_ss(b, _mm_movehdup_ps(b)));
+#else
+  alignas(64) float lanes[kLanes];
+  v.store_aligned(lanes);
+  float m = lanes[0];
+  for (std::size_t i = 1; i < kLanes; ++i) m = lanes[i] < m ? lanes[i] : m;
+  return m;
+#endif
+}
+
+/// Largest of the K lanes; the lanes must not be NaN.
+inline float reduce_max_k(vfloatK v) {
+#if XSIMD_WITH_AVX512F
+  __m256 a = _mm256_max_ps(_mm512_castps512_ps256(v), upper_half(v));
+  __m128 b = _mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+  b = _mm_max_ps(b, _mm_movehl_ps(b, b));
+  return _mm_cvtss_f32(_mm_max_ss(b, _mm_movehdup_ps(b)));
+#else
+  alignas(64) float lanes[kLanes];
+  v.store_aligned(lanes);
+  float m = lanes[0];
+  for (std::size_t i = 1; i < kLanes; ++i) m = lanes[i] > m ? lanes[i] : m;
+  return m;
+#endif
+}
+
 /// Smallest of the four lanes; the lanes must not be NaN.
 inline float reduce_min(vfloat4 v) {
   __m128 a = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));

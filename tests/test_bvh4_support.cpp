@@ -13,11 +13,13 @@
 
 namespace pt::test {
 
-std::vector<Ray> camera_rays(const Scene& scene, int w, int h) {
+std::vector<Ray> camera_rays(const Scene& scene, int w, int h, float window) {
   Camera cam = resolve_camera(scene, w, h);
   std::vector<Ray> rays;
+  float margin = 0.5f * (1.0f - window);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) rays.push_back(camera_ray(cam, (x + 0.5f) / w, 1.0f - (y + 0.5f) / h));
+    for (int x = 0; x < w; ++x)
+      rays.push_back(camera_ray(cam, margin + window * (x + 0.5f) / w, 1.0f - margin - window * (y + 0.5f) / h));
   return rays;
 }
 

@@ -14,8 +14,9 @@
 
 namespace pt::test {
 
-/// Camera rays through the pixel centres of a w x h image of the scene's camera.
-std::vector<Ray> camera_rays(const Scene& scene, int w, int h);
+/// Camera rays through the pixel centres of a w x h image of the scene's
+/// camera; with window < 1 only of that central fraction of the film.
+std::vector<Ray> camera_rays(const Scene& scene, int w, int h, float window = 1.0f);
 
 /// Origins uniform in the scene bounds (enlarged by 10%), directions uniform
 /// on the sphere, t in [0, inf).

@@ -21,7 +21,7 @@ struct Options {
   std::string write_camera_file;     ///< --write-camera
   RenderSettings settings;
   Engine engine = Engine::kReference;
-  AccelChoice accel = AccelChoice::kBvh2;
+  AccelChoice accel = AccelChoice::kBvh4;
   uint32_t max_leaf_size = 4;
   bool cs184_framing = false;
   bool quiet = false;

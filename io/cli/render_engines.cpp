@@ -11,8 +11,9 @@ RenderOutput render_with_engine(const Options& o, const Scene& scene, const Came
   switch (o.engine) {
     case Engine::kReference: {
       reference::ReferenceOptions ro;
-      if (o.accel == AccelChoice::kBvh4) throw InputError("--bvh bvh4 is not available yet; use bvh2 or none");
-      ro.accel = o.accel == AccelChoice::kNone ? reference::AccelMode::kBruteForce : reference::AccelMode::kBvh;
+      ro.accel = o.accel == AccelChoice::kNone   ? reference::AccelMode::kBruteForce
+                 : o.accel == AccelChoice::kBvh2 ? reference::AccelMode::kBvh
+                                                 : reference::AccelMode::kBvh4;
       ro.max_leaf_size = o.max_leaf_size;
       return reference::render_reference(scene, camera, o.settings, ro, control);
     }

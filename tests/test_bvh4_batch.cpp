@@ -1,0 +1,158 @@
+// The batched entry points of SceneBvh4: every batch length 1..3*kLanes+1
+// answers like the single-ray query; entries past the batch and lanes left out
+// of a packet are untouched (and their rays unread); rays that are not
+// traceable or that disagree on direction signs inside a packet; spheres; the
+// watertight form.
+#include <cstring>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "bvh/scene_bvh4.h"
+#include "test_bvh4_support.h"
+#include "test_support.h"
+
+namespace pt::test {
+namespace {
+
+const Hit kSentinel{-7.0f, -7.0f, -7.0f, 0xDEADBEEFu};
+
+bool is_sentinel(const Hit& h) { return std::memcmp(&h, &kSentinel, sizeof(Hit)) == 0; }
+
+Scene built_in_scene() { return load_collada_file(project_scene("cornell_spheres.dae")).scene; }
+
+/// Camera rays through the middle of the view, then uniformly random rays
+/// (mixed direction signs).
+std::vector<Ray> test_rays(const Scene& s) {
+  std::vector<Ray> rays = camera_rays(s, 24, 16, 0.3f);
+  std::vector<Ray> random = uniform_random_rays(s, 200, 21);
+  rays.insert(rays.end(), random.begin(), random.end());
+  return rays;
+}
+
+void expect_batches_match_single_rays(const Scene& s, const Bvh4Options& options) {
+  SceneBvh4 bvh(s, options);
+  std::vector<Ray> rays = test_rays(s);
+  float scale = scene_scale(s);
+  int hits_in_first_batches = 0;
+  for (size_t i = 0; i < 3 * kLanes + 1; ++i) {
+    Hit h;
+    hits_in_first_batches += bvh.intersect(rays[i], h);
+  }
+  EXPECT_GT(hits_in_first_batches, int(kLanes));  // the comparisons below are not all misses
+  for (size_t n = 1; n <= 3 * kLanes + 1; ++n)
+    for (size_t first : {size_t{0}, size_t{384}}) {  // coherent camera rays, then random rays
+      std::vector<Hit> hits(n + 8, kSentinel);
+      bvh.intersect(std::span<const Ray>(rays.data() + first, n), std::span<Hit>(hits.data(), n));
+      for (size_t i = 0; i < n; ++i) {
+        Hit single;
+        bvh.intersect(rays[first + i], single);
+        EXPECT_TRUE(same_closest_hit(single, hits[i], scale)) << "batch of " << n << ", ray " << first + i;
+      }
+      for (size_t i = n; i < hits.size(); ++i) EXPECT_TRUE(is_sentinel(hits[i])) << "batch of " << n << " wrote " << i;
+    }
+}
+
+TEST(Bvh4Batch, EveryLengthMatchesSingleRays) {
+  expect_batches_match_single_rays(built_in_scene(), {});
+  expect_batches_match_single_rays(tessellated_sphere(4, {0, 0, 0}, 1.0f), {});
+}
+
+TEST(Bvh4Batch, WatertightFormMatchesSingleRays) {
+  Bvh4Options watertight;
+  watertight.watertight = true;
+  expect_batches_match_single_rays(built_in_scene(), watertight);
+}
+
+TEST(Bvh4Batch, LanesLeftOutAreNeitherReadNorWritten) {
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  std::vector<Ray> good = camera_rays(s, 8, int(kLanes), 0.3f);
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    uint32_t lanes = static_cast<uint32_t>(rng()) & (kLanes == 32 ? ~0u : (1u << kLanes) - 1);
+    std::vector<Ray> rays(kLanes);
+    std::vector<Hit> hits(kLanes, kSentinel);
+    for (size_t i = 0; i < kLanes; ++i) {
+      rays[i] = good[(trial * 7 + i * 13) % good.size()];
+      if (!(lanes >> i & 1)) rays[i] = Ray{float3(NAN), NAN, float3(NAN), NAN};  // garbage if read
+    }
+    bvh.intersect_packet(rays.data(), hits.data(), lanes);
+    for (size_t i = 0; i < kLanes; ++i) {
+      if (!(lanes >> i & 1)) {
+        EXPECT_TRUE(is_sentinel(hits[i])) << "lane " << i << " written";
+        continue;
+      }
+      Hit single;
+      bvh.intersect(rays[i], single);
+      EXPECT_TRUE(same_closest_hit(single, hits[i], scene_scale(s))) << "lane " << i;
+    }
+  }
+}
+
+TEST(Bvh4Batch, UntraceableRaysInAPacketMissAndSpareTheOthers) {
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  std::vector<Ray> rays = uniform_random_rays(s, kLanes, 3);  // from inside the room
+  rays[1].org.x = NAN;
+  rays[2].dir.y = INFINITY;
+  rays[3].tmin = NAN;
+  rays[4].tmax = -1.0f;  // empty range
+  rays[5].dir = float3{0.0f};
+  std::vector<Hit> hits(kLanes, kSentinel);
+  bvh.intersect(rays, hits);
+  for (size_t i = 1; i <= 5; ++i) EXPECT_FALSE(hits[i].valid()) << "ray " << i;
+  int traceable_hits = 0;
+  for (size_t i = 0; i < kLanes; ++i) {
+    Hit single;
+    bvh.intersect(rays[i], single);
+    EXPECT_TRUE(same_closest_hit(single, hits[i], scene_scale(s))) << "ray " << i;
+    traceable_hits += i > 5 && hits[i].valid();
+  }
+  EXPECT_GT(traceable_hits, 0);  // the others still find the room
+}
+
+TEST(Bvh4Batch, SpheresAreFoundByPackets) {
+  Scene s = built_in_scene();
+  ASSERT_FALSE(s.spheres.empty());
+  SceneBvh4 bvh(s);
+  std::vector<Ray> rays;
+  for (const Sphere& sphere : s.spheres)
+    for (size_t i = 0; i < kLanes; ++i) {  // rays from the camera side straight at the sphere
+      float3 target = sphere.center + float3{0.1f * float(i % 4) - 0.15f, 0.1f * float(i / 4) - 0.15f, 0.0f} * sphere.radius;
+      float3 from = sphere.center + float3{0.0f, 0.0f, 4.0f * sphere.radius};
+      rays.push_back({from, 0.0f, normalize(target - from), kInfinity});
+    }
+  std::vector<Hit> hits(rays.size(), kSentinel);
+  bvh.intersect(rays, hits);
+  int sphere_hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Hit single;
+    bvh.intersect(rays[i], single);
+    EXPECT_TRUE(same_closest_hit(single, hits[i], scene_scale(s))) << "ray " << i;
+    sphere_hits += hits[i].is_sphere();
+  }
+  EXPECT_GT(sphere_hits, 0);
+}
+
+TEST(Bvh4Batch, PacketsMatchSingleRaysOnSharedScenes) {
+  PT_REQUIRE_SHARED_SCENES();
+  for (const char* name : {"CBbunny.dae", "CBspheres_lambertian.dae", "teapot.dae"}) {
+    Scene s = load_collada_file(shared_scene(name)).scene;
+    SceneBvh4 bvh(s);
+    std::vector<Ray> rays = camera_rays(s, 64, 48);
+    std::vector<Hit> hits(rays.size());
+    bvh.intersect(rays, hits);
+    int mismatches = 0;
+    for (size_t i = 0; i < rays.size() && mismatches < 5; ++i) {
+      Hit single;
+      bvh.intersect(rays[i], single);
+      auto same = same_closest_hit(single, hits[i], scene_scale(s));
+      mismatches += !same;
+      EXPECT_TRUE(same) << name << " ray " << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pt::test
