@@ -2,8 +2,10 @@
 // first (one hit child is descended without touching the stack, two are
 // ordered by entry distance, three or four are pushed and sorted), a stack of
 // (reference, entry distance) pruned on pop. Any hit: children in node order,
-// no distances, first hit ends the walk. Templates over the leaf form and the
-// counters (NoCounters compiles counting away).
+// no distances, first hit ends the walk. On large scenes memory latency
+// dominates: deferred children start loading when pushed, and so does the
+// first child of the node about to be visited. Templates over the leaf form
+// and the counters (NoCounters compiles counting away).
 #pragma once
 
 #include <bit>
@@ -44,6 +46,25 @@ template <class C> inline void count_block(C& c, const TriangleBlock4& b) {
   }
 }
 
+/// Starts loading what a deferred reference points to: a node and the head of
+/// the next one, or a leaf's first block.
+inline void prefetch_ref(const Bvh4& bvh, uint32_t ref) {
+  const char* p = bvh4_ref::is_leaf(ref) ? reinterpret_cast<const char*>(bvh.leaf_blocks(ref))
+                                         : reinterpret_cast<const char*>(&bvh.node(ref));
+  prefetch_l1(p);
+  prefetch_l1(p + 64);
+  prefetch_l1(p + 128);
+}
+
+/// Starts loading the node after inner node `ref` in memory: its first inner
+/// child, as nodes are stored depth first.
+inline void prefetch_first_child(const Bvh4& bvh, uint32_t ref) {
+  if (bvh4_ref::is_leaf(ref)) return;
+  const char* p = reinterpret_cast<const char*>(&bvh.node(ref)) + sizeof(Bvh4Node);
+  prefetch_l1(p);
+  prefetch_l1(p + 64);
+}
+
 struct Bvh4StackEntry {
   uint32_t ref;
   float dist;
@@ -79,13 +100,19 @@ inline bool bvh4_intersect(const Bvh4& bvh, const Ray& ray, Hit& hit, C& counter
       tnear.store_aligned(d);
       uint32_t i0 = std::countr_zero(mask);
       mask &= mask - 1;
-      if (mask == 0) { cur = node.child[i0]; continue; }
+      if (mask == 0) {
+        cur = node.child[i0];
+        prefetch_first_child(bvh, cur);
+        continue;
+      }
       uint32_t i1 = std::countr_zero(mask);
       mask &= mask - 1;
       if (mask == 0) {
         bool first_near = d[i0] <= d[i1];
         *sp++ = first_near ? Bvh4StackEntry{node.child[i1], d[i1]} : Bvh4StackEntry{node.child[i0], d[i0]};
+        prefetch_ref(bvh, sp[-1].ref);
         cur = first_near ? node.child[i0] : node.child[i1];
+        prefetch_first_child(bvh, cur);
         continue;
       }
       Bvh4StackEntry* top = sp;
@@ -107,7 +134,9 @@ inline bool bvh4_intersect(const Bvh4& bvh, const Ray& ray, Hit& hit, C& counter
         order_far_first(top[1], top[3]);
         order_far_first(top[1], top[2]);
       }
+      for (Bvh4StackEntry* e = top; e + 1 < sp; ++e) prefetch_ref(bvh, e->ref);
       cur = (--sp)->ref;
+      prefetch_first_child(bvh, cur);
     }
     {  // leaf: test every block, keep the nearest hit
       const TriangleBlock4* blocks = bvh.leaf_blocks(cur);
@@ -156,7 +185,9 @@ inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
         mask &= mask - 1;
         if (mask == 0) break;
         *sp++ = cur;
+        prefetch_ref(bvh, cur);
       }
+      prefetch_first_child(bvh, cur);
     }
     {
       const TriangleBlock4* blocks = bvh.leaf_blocks(cur);
