@@ -31,21 +31,29 @@ bool zero_area(const float3& a, const float3& b, const float3& c) {
 }
 
 Inputs gather_inputs(std::span<const float3> positions, std::span<const TriangleIndices> triangles) {
+  const size_t n = triangles.size();
+  std::vector<BBox> boxes(n);
+  std::vector<uint8_t> keep(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const TriangleIndices& t = triangles[i];
+      const float3 &a = positions[t.v0], &b = positions[t.v1], &c = positions[t.v2];
+      keep[i] = is_finite(a) && is_finite(b) && is_finite(c) && !zero_area(a, b, c);
+      boxes[i] = BBox::of_point(a);
+      boxes[i].expand(b);
+      boxes[i].expand(c);
+    }
+  });
   Inputs in;
-  in.ids.reserve(triangles.size());
-  in.boxes.reserve(triangles.size());
-  in.centers.reserve(triangles.size());
-  for (uint32_t i = 0; i < triangles.size(); ++i) {
-    const TriangleIndices& t = triangles[i];
-    const float3 &a = positions[t.v0], &b = positions[t.v1], &c = positions[t.v2];
-    if (!is_finite(a) || !is_finite(b) || !is_finite(c) || zero_area(a, b, c)) continue;
-    BBox box = BBox::of_point(a);
-    box.expand(b);
-    box.expand(c);
+  in.ids.reserve(n);
+  in.boxes.reserve(n);
+  in.centers.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
     in.ids.push_back(i);
-    in.boxes.push_back(box);
-    in.centers.push_back(box.center());
-    in.max_abs = std::max({in.max_abs, max_component(abs(box.lower)), max_component(abs(box.upper))});
+    in.boxes.push_back(boxes[i]);
+    in.centers.push_back(boxes[i].center());
+    in.max_abs = std::max({in.max_abs, max_component(abs(boxes[i].lower)), max_component(abs(boxes[i].upper))});
   }
   return in;
 }
