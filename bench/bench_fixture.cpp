@@ -24,6 +24,11 @@ size_t allowed_mismatches(size_t n) { return std::max<size_t>(2, n / 10000); }
 
 }  // namespace
 
+void run_tracer(const TracerEntry& t, RayKind kind, size_t n, int threads, Hit* hits, uint8_t* blocked) {
+  if (t.whole_set) arena_of(threads).execute([&] { t.trace(kind, 0, n, hits, blocked); });
+  else run_chunks(n, threads, [&](size_t b, size_t e) { t.trace(kind, b, e, hits, blocked); });
+}
+
 SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions& options)
     : label_(std::move(label)), scene_(std::move(scene)) {
   bvh4_ = std::make_unique<SceneBvh4>(scene_);
@@ -70,6 +75,13 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
                        }};
   packets.primary_only = true;
   tracers_.push_back(packets);
+  TracerEntry incoherent{"bvh4_incoherent", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+                            std::span<const Ray> rays = std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b);
+                            if (kind == RayKind::kShadow) bvh4_->occluded_incoherent(rays, std::span<uint8_t>(blocked + b, e - b));
+                            else bvh4_->intersect_incoherent(rays, std::span<Hit>(hits + b, e - b));
+                          }};
+  incoherent.whole_set = true;
+  tracers_.push_back(incoherent);
   Bvh4Options watertight;
   watertight.watertight = true;
   bvh4_watertight_ = std::make_unique<SceneBvh4>(scene_, watertight);
@@ -128,7 +140,7 @@ const std::string& SceneFixture::validate(const TracerEntry& t, RayKind kind) {
   size_t n = std::min(rays.size(), t.max_rays);
   std::vector<Hit> hits(n);
   std::vector<uint8_t> blocked(n);
-  run_chunks(n, 2, [&](size_t b, size_t e) { t.trace(kind, b, e, hits.data(), blocked.data()); });
+  run_tracer(t, kind, n, 2, hits.data(), blocked.data());
   size_t bad = 0;
   float scale = std::max(max_component(abs(scene_.bounds.lower)), max_component(abs(scene_.bounds.upper)));
   for (size_t i = 0; i < n; ++i)

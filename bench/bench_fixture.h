@@ -35,7 +35,11 @@ struct TracerEntry {
   TraceFn trace;
   bool primary_only = false;  ///< packet APIs: coherent rays only
   size_t max_rays = SIZE_MAX; ///< traces only this prefix of a set
+  bool whole_set = false;     ///< called once per set inside the thread arena, never in chunks
 };
+
+/// Runs the tracer over rays [0, n) of a set on `threads` threads.
+void run_tracer(const TracerEntry& t, RayKind kind, size_t n, int threads, Hit* hits, uint8_t* blocked);
 
 class SceneFixture {
  public:

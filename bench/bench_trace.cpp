@@ -2,8 +2,8 @@
 // --benchmark_out). Per scene and ray set (primary, diffuse, shadow), every
 // tracer in the same process on the same rays, 1 and 2 threads, as rays/s
 // counters: this BVH4 (single rays with Moller-Trumbore and watertight
-// leaves, and packets of kLanes rays on primary rays), the reference binary
-// BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
+// leaves; packets of kLanes rays on primary rays; the batch for incoherent
+// rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
 // 4/8/16 on primary rays) built with high and default quality; plus build
 // times and memory. Every tracer is validated ray by ray before it is timed.
 //   bench_trace [--quick] [--export-rays DIR] [benchmark flags]
@@ -65,7 +65,7 @@ void trace_benchmark(benchmark::State& state, SceneSpec spec, RayKind kind, std:
   std::vector<Hit> hits(n);
   std::vector<uint8_t> blocked(n);
   for (auto _ : state) {
-    run_chunks(n, threads, [&](size_t b, size_t e) { t->trace(kind, b, e, hits.data(), blocked.data()); });
+    run_tracer(*t, kind, n, threads, hits.data(), blocked.data());
     benchmark::DoNotOptimize(hits.data());
     benchmark::DoNotOptimize(blocked.data());
   }
@@ -120,6 +120,7 @@ void build_embree_benchmark(benchmark::State& state, SceneSpec spec, RTCBuildQua
 std::vector<std::string> tracer_names(const SceneSpec& spec, RayKind kind) {
   std::vector<std::string> names = {"bvh4", "bvh4_watertight", "bvh2_midpoint"};
   if (kind == RayKind::kPrimary) names.push_back("bvh4_packet");
+  else names.push_back("bvh4_incoherent");
   if (spec.small) names.push_back("brute_force");
 #ifdef PT_HAVE_EMBREE
   names.insert(names.end(), {"embree_high_single", "embree_default_single"});
@@ -131,7 +132,7 @@ std::vector<std::string> tracer_names(const SceneSpec& spec, RayKind kind) {
 
 /// The targets compare this BVH4 and Embree at 1 and 2 threads; the others run on 1.
 bool runs_on_two_threads(const std::string& tracer) {
-  return tracer == "bvh4" || tracer == "bvh4_packet" || tracer.rfind("embree_high", 0) == 0;
+  return (tracer.rfind("bvh4", 0) == 0 && tracer != "bvh4_watertight") || tracer.rfind("embree_high", 0) == 0;
 }
 
 void register_benchmarks(const std::vector<SceneSpec>& specs) {

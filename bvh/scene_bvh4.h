@@ -20,6 +20,7 @@ namespace pt {
 
 class SceneBvh4 {
  public:
+
   /// BVH4 over all of scene.triangles and scene.spheres. threads = 0: all available.
   explicit SceneBvh4(const Scene& scene, const Bvh4Options& options = {});
 
@@ -48,6 +49,15 @@ class SceneBvh4 {
   /// One packet: traces rays[i] into hits[i] for the lanes i < kLanes set in
   /// `lanes`; the other entries of both arrays are neither read nor written.
   void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const;
+
+  /// Closest hits of a large batch of incoherent rays (bounce rays), traced one
+  /// by one in parallel in the calling oneTBB arena. When the BVH has at least
+  /// Bvh4Options::reorder_min_bytes they are traced in the order of coherent_order (ray_order.h):
+  /// sorting costs less than the cache misses it saves only when the tree does
+  /// not fit the caches. Same answers as the single-ray query.
+  void intersect_incoherent(std::span<const Ray> rays, std::span<Hit> hits) const;
+  /// Occlusion of a large batch of incoherent rays, likewise: blocked[i] = 0 or 1.
+  void occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t> blocked) const;
 
   const Bvh4BuildStats& stats() const { return stats_; }
   const Bvh4& bvh() const { return bvh_; }
@@ -87,6 +97,8 @@ class SceneBvh4 {
 
   Bvh4 bvh_;
   std::vector<SphereShape> spheres_;
+  BBox bounds_;  ///< of all vertices and spheres: the grid of ray_order_key
+  size_t reorder_min_bytes_;
   Bvh4BuildStats stats_;
 };
 

@@ -15,7 +15,7 @@ from collections import defaultdict
 TRACE = re.compile(r"^trace/(?P<scene>[^/]+)/(?P<kind>[^/]+)/(?P<tracer>[^/]+)/threads:(?P<threads>\d+)$")
 BUILD = re.compile(r"^build/(?P<scene>[^/]+)/(?P<builder>[^/]+)/threads:(?P<threads>\d+)$")
 KINDS = ["primary", "diffuse", "shadow"]
-OURS = ["bvh4", "bvh4_packet"]
+OURS = ["bvh4", "bvh4_packet", "bvh4_incoherent"]
 
 
 def runs(data):
