@@ -3,6 +3,7 @@
 // of a packet are untouched (and their rays unread); rays that are not
 // traceable or that disagree on direction signs inside a packet; spheres; the
 // watertight form; incoherent batches, reordered or not.
+#include <algorithm>
 #include <cstring>
 #include <random>
 
@@ -93,17 +94,18 @@ TEST(Bvh4Batch, LanesLeftOutAreNeitherReadNorWritten) {
 TEST(Bvh4Batch, UntraceableRaysInAPacketMissAndSpareTheOthers) {
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
-  std::vector<Ray> rays = uniform_random_rays(s, kLanes, 3);  // from inside the room
+  const size_t n = std::max<size_t>(kLanes, 16);  // one packet on AVX-512, four with SSE
+  std::vector<Ray> rays = uniform_random_rays(s, n, 3);  // from inside the room
   rays[1].org.x = NAN;
   rays[2].dir.y = INFINITY;
   rays[3].tmin = NAN;
   rays[4].tmax = -1.0f;  // empty range
   rays[5].dir = float3{0.0f};
-  std::vector<Hit> hits(kLanes, kSentinel);
+  std::vector<Hit> hits(n, kSentinel);
   bvh.intersect(rays, hits);
   for (size_t i = 1; i <= 5; ++i) EXPECT_FALSE(hits[i].valid()) << "ray " << i;
   int traceable_hits = 0;
-  for (size_t i = 0; i < kLanes; ++i) {
+  for (size_t i = 0; i < n; ++i) {
     Hit single;
     bvh.intersect(rays[i], single);
     EXPECT_TRUE(same_closest_hit(single, hits[i], scene_scale(s))) << "ray " << i;
