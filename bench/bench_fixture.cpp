@@ -58,16 +58,7 @@ SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions&
 SceneFixture::~SceneFixture() = default;
 
 void SceneFixture::add_tracers(const FixtureOptions& options) {
-  auto single = [this](auto&& closest, auto&& any) {
-    return [this, closest, any](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
-      const std::vector<Ray>& rays = sets_[int(kind)].rays;
-      if (kind == RayKind::kShadow)
-        for (size_t i = b; i < e; ++i) blocked[i] = any(rays[i]);
-      else
-        for (size_t i = b; i < e; ++i) closest(rays[i], hits[i]);
-    };
-  };
-  tracers_.push_back({"bvh4", single([this](const Ray& r, Hit& h) { bvh4_->intersect(r, h); },
+  tracers_.push_back({"bvh4", single_rays([this](const Ray& r, Hit& h) { bvh4_->intersect(r, h); },
                                      [this](const Ray& r) { return bvh4_->occluded(r); })});
   TracerEntry packets{"bvh4_packet", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t*) {
                          bvh4_->intersect(std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b),
@@ -85,9 +76,16 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
   Bvh4Options watertight;
   watertight.watertight = true;
   bvh4_watertight_ = std::make_unique<SceneBvh4>(scene_, watertight);
-  tracers_.push_back({"bvh4_watertight", single([this](const Ray& r, Hit& h) { bvh4_watertight_->intersect(r, h); },
+  tracers_.push_back({"bvh4_watertight", single_rays([this](const Ray& r, Hit& h) { bvh4_watertight_->intersect(r, h); },
                                                 [this](const Ray& r) { return bvh4_watertight_->occluded(r); })});
-  tracers_.push_back({"bvh2_midpoint", single(
+  add_reference_tracers(options);
+#ifdef PT_HAVE_EMBREE
+  add_embree_tracers();
+#endif
+}
+
+void SceneFixture::add_reference_tracers(const FixtureOptions& options) {
+  tracers_.push_back({"bvh2_midpoint", single_rays(
                                            [this](const Ray& r, Hit& h) {
                                              uint64_t n = 0;
                                              bvh2_->intersect(r, h, n);
@@ -98,7 +96,7 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
                                            })});
   if (scene_.triangles.size() <= options.brute_force_max_triangles) {
     brute_ = std::make_unique<reference::ReferenceAccel>(scene_, reference::AccelMode::kBruteForce);
-    TracerEntry e{"brute_force", single(
+    TracerEntry e{"brute_force", single_rays(
                                      [this](const Ray& r, Hit& h) {
                                        uint64_t n = 0;
                                        brute_->intersect(r, h, n);
@@ -110,7 +108,10 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
     e.max_rays = options.brute_force_rays;
     tracers_.push_back(e);
   }
+}
+
 #ifdef PT_HAVE_EMBREE
+void SceneFixture::add_embree_tracers() {
   for (int k = 0; k < 3; ++k) embree_rays_[k] = convert_rays(sets_[k].rays, k == 0);
   embree_high_ = std::make_unique<EmbreeTracer>(scene_, RTC_BUILD_QUALITY_HIGH);
   embree_default_ = std::make_unique<EmbreeTracer>(scene_, RTC_BUILD_QUALITY_MEDIUM);
@@ -130,8 +131,8 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
     e.primary_only = true;
     tracers_.push_back(e);
   }
-#endif
 }
+#endif
 
 const std::string& SceneFixture::validate(const TracerEntry& t, RayKind kind) {
   auto key = std::pair{t.name, int(kind)};

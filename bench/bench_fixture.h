@@ -61,7 +61,21 @@ class SceneFixture {
   size_t mismatches(const TracerEntry& t, RayKind kind) const;
 
  private:
+  /// A TraceFn calling closest(ray, hit) or any(ray) -> bool per ray of the range.
+  template <class Closest, class Any> TraceFn single_rays(Closest closest, Any any) const {
+    return [this, closest, any](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+      const std::vector<Ray>& rays = sets_[int(kind)].rays;
+      if (kind == RayKind::kShadow)
+        for (size_t i = b; i < e; ++i) blocked[i] = any(rays[i]);
+      else
+        for (size_t i = b; i < e; ++i) closest(rays[i], hits[i]);
+    };
+  }
   void add_tracers(const FixtureOptions& options);
+  void add_reference_tracers(const FixtureOptions& options);
+#ifdef PT_HAVE_EMBREE
+  void add_embree_tracers();
+#endif
 
   std::string label_;
   Scene scene_;

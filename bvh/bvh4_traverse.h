@@ -75,6 +75,55 @@ inline void order_far_first(Bvh4StackEntry& a, Bvh4StackEntry& b) {
   if (a.dist < b.dist) std::swap(a, b);
 }
 
+/// Three or four children hit (i0, i1 and those left in `mask`): pushes them
+/// all, sorts the pushed entries far first, starts loading them, and pops the
+/// nearest, which it returns.
+inline uint32_t push_sorted_pop_nearest(const Bvh4& bvh, const Bvh4Node& node, uint32_t i0, uint32_t i1,
+                                        uint32_t mask, const float d[4], Bvh4StackEntry*& sp) {
+  Bvh4StackEntry* top = sp;
+  *sp++ = {node.child[i0], d[i0]};
+  *sp++ = {node.child[i1], d[i1]};
+  uint32_t i2 = std::countr_zero(mask);
+  *sp++ = {node.child[i2], d[i2]};
+  mask &= mask - 1;
+  if (mask == 0) {  // sorting networks: the nearest entry ends on top
+    order_far_first(top[0], top[1]);
+    order_far_first(top[1], top[2]);
+    order_far_first(top[0], top[1]);
+  } else {
+    uint32_t i3 = std::countr_zero(mask);
+    *sp++ = {node.child[i3], d[i3]};
+    order_far_first(top[0], top[1]);
+    order_far_first(top[2], top[3]);
+    order_far_first(top[0], top[2]);
+    order_far_first(top[1], top[3]);
+    order_far_first(top[1], top[2]);
+  }
+  for (Bvh4StackEntry* e = top; e + 1 < sp; ++e) prefetch_ref(bvh, e->ref);
+  uint32_t nearest = (--sp)->ref;
+  prefetch_first_child(bvh, nearest);
+  return nearest;
+}
+
+/// Tests every block of a leaf; a hit nearer than tmax shortens tmax and fills `hit`.
+template <TriangleForm F, class C>
+inline void intersect_leaf_closest(const TriangleBlock4* blocks, uint32_t count,
+                                   const typename BlockTest<F>::RayConstants& br, float& tmax, vfloat4& vtmax,
+                                   Hit& hit, C& counters) {
+  for (uint32_t i = 0; i < count; ++i) {
+    count_block(counters, blocks[i]);
+    BlockHits h;
+    if (BlockTest<F>::test(blocks[i], br, vtmax, h) == 0) continue;
+    tmax = reduce_min(h.t);
+    vtmax = vfloat4(tmax);
+    uint32_t lane = std::countr_zero(movemask(h.t == vtmax));
+    alignas(16) float u[4], v[4];
+    h.u.store_aligned(u);
+    h.v.store_aligned(v);
+    hit = {tmax, u[lane], v[lane], blocks[i].prim[lane]};
+  }
+}
+
 /// Closest triangle hit with ray.tmin <= t < ray.tmax. On a hit fills `hit`
 /// (prim = input triangle index); on a miss leaves hit = {tmax, 0, 0, kInvalidId}.
 template <TriangleForm F, class C>
@@ -115,45 +164,9 @@ inline bool bvh4_intersect(const Bvh4& bvh, const Ray& ray, Hit& hit, C& counter
         prefetch_first_child(bvh, cur);
         continue;
       }
-      Bvh4StackEntry* top = sp;
-      *sp++ = {node.child[i0], d[i0]};
-      *sp++ = {node.child[i1], d[i1]};
-      uint32_t i2 = std::countr_zero(mask);
-      *sp++ = {node.child[i2], d[i2]};
-      mask &= mask - 1;
-      if (mask == 0) {  // sorting networks: the nearest entry ends on top
-        order_far_first(top[0], top[1]);
-        order_far_first(top[1], top[2]);
-        order_far_first(top[0], top[1]);
-      } else {
-        uint32_t i3 = std::countr_zero(mask);
-        *sp++ = {node.child[i3], d[i3]};
-        order_far_first(top[0], top[1]);
-        order_far_first(top[2], top[3]);
-        order_far_first(top[0], top[2]);
-        order_far_first(top[1], top[3]);
-        order_far_first(top[1], top[2]);
-      }
-      for (Bvh4StackEntry* e = top; e + 1 < sp; ++e) prefetch_ref(bvh, e->ref);
-      cur = (--sp)->ref;
-      prefetch_first_child(bvh, cur);
+      cur = push_sorted_pop_nearest(bvh, node, i0, i1, mask, d, sp);
     }
-    {  // leaf: test every block, keep the nearest hit
-      const TriangleBlock4* blocks = bvh.leaf_blocks(cur);
-      uint32_t count = bvh4_ref::leaf_block_count(cur);
-      for (uint32_t i = 0; i < count; ++i) {
-        count_block(counters, blocks[i]);
-        BlockHits h;
-        if (BlockTest<F>::test(blocks[i], br, vtmax, h) == 0) continue;
-        tmax = reduce_min(h.t);
-        vtmax = vfloat4(tmax);
-        uint32_t lane = std::countr_zero(movemask(h.t == vtmax));
-        alignas(16) float u[4], v[4];
-        h.u.store_aligned(u);
-        h.v.store_aligned(v);
-        hit = {tmax, u[lane], v[lane], blocks[i].prim[lane]};
-      }
-    }
+    intersect_leaf_closest<F>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), br, tmax, vtmax, hit, counters);
   pop:
     do {
       if (sp == stack) return hit.prim != kInvalidId;

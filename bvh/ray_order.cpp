@@ -6,6 +6,9 @@
 #include <cmath>
 #include <utility>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
 namespace pt {
 namespace {
 
@@ -43,10 +46,12 @@ uint32_t ray_order_key(const Ray& ray, const BBox& bounds) {
 std::vector<uint32_t> coherent_order(std::span<const Ray> rays, const BBox& bounds) {
   const size_t n = rays.size();
   std::vector<uint32_t> keys(n), order(n), keys2(n), order2(n);
-  for (size_t i = 0; i < n; ++i) {
-    keys[i] = ray_order_key(rays[i], bounds);
-    order[i] = static_cast<uint32_t>(i);
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      keys[i] = ray_order_key(rays[i], bounds);
+      order[i] = static_cast<uint32_t>(i);
+    }
+  });
   for (int pass = 0; pass < 2; ++pass) {  // least significant digit first: stable
     int shift = pass * kRadixBits;
     std::array<uint32_t, kBuckets> start{};

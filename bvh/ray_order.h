@@ -18,7 +18,7 @@ namespace pt {
 uint32_t ray_order_key(const Ray& ray, const BBox& bounds);
 
 /// Indices of `rays` sorted by ray_order_key (stable: equal keys keep their
-/// input order). Deterministic.
+/// input order). Deterministic; keys are computed in the calling oneTBB arena.
 std::vector<uint32_t> coherent_order(std::span<const Ray> rays, const BBox& bounds);
 
 }  // namespace pt
