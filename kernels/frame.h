@@ -10,6 +10,9 @@ namespace pt {
 
 template <class T> struct Vec3T { T x, y, z; };
 
+inline Vec3T<float> vec3t(const float3& a) { return {a.x, a.y, a.z}; }
+inline float3 to_float3(const Vec3T<float>& v) { return {v.x, v.y, v.z}; }
+
 /// Tangent vectors (t, b) such that (t, b, n) is right-handed and orthonormal.
 template <class T>
 inline void tangent_frame(T nx, T ny, T nz, Vec3T<T>& t, Vec3T<T>& b) {

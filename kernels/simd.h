@@ -1,7 +1,9 @@
 // The one place that names SIMD types. N = BVH branching factor (4), K = lanes of
 // the uniform (across-rays) stages: the widest float batch xsimd picks for the
 // build target. Everything else says vfloat4 / vfloatK and never touches
-// intrinsics directly.
+// intrinsics directly; the few operations xsimd 8.1 lacks (mask extraction,
+// horizontal minimum, a contraction barrier, prefetch, denormal mode) are
+// wrapped here.
 #pragma once
 
 #include <cstddef>
@@ -26,26 +28,15 @@ inline constexpr std::size_t kBvhWidth = 4;
 inline constexpr std::size_t kLanes = vfloatK::size;
 
 /// Bit mask of the true lanes of a 4-wide comparison (lane i -> bit i).
-/// xsimd 8.1 has no portable mask extraction; this is the one raw intrinsic.
+/// xsimd 8.1 has no portable mask extraction.
 inline uint32_t movemask(vbool4 m) { return static_cast<uint32_t>(_mm_movemask_ps(m)); }
-
-/// Bit mask of the true lanes of a K-wide comparison (lane i -> bit i).
-inline uint64_t bitmask(vboolK m) {
-#if defined(__AVX512F__)
-  return static_cast<uint64_t>(static_cast<__mmask16>(m));
-#elif defined(__AVX__)
-  return static_cast<uint64_t>(_mm256_movemask_ps(m));
-#else
-  return static_cast<uint64_t>(_mm_movemask_ps(m));
-#endif
-}
 
 using vbooluK = xsimd::batch_bool<uint32_t>;
 using vbooliK = xsimd::batch_bool<int32_t>;
 
 /// A K-wide integer comparison's result as a float mask.
 template <class M> inline vboolK as_float_mask(M m) {
-#if defined(__AVX512F__)
+#if XSIMD_WITH_AVX512F
   return vboolK(static_cast<__mmask16>(m));
 #else
   using I = typename M::value_type;
@@ -55,7 +46,7 @@ template <class M> inline vboolK as_float_mask(M m) {
 
 /// A K-wide float mask as an int32 mask.
 inline vbooliK as_int_mask(vboolK m) {
-#if defined(__AVX512F__)
+#if XSIMD_WITH_AVX512F
   return vbooliK(static_cast<__mmask16>(m));
 #else
   return xsimd::bitwise_cast<vintK>(xsimd::select(m, vfloatK(-1.0f), vfloatK(0.0f))) != vintK(0);
@@ -68,5 +59,90 @@ inline vintK lane_index() {
   for (size_t i = 0; i < kLanes; ++i) idx[i] = static_cast<int32_t>(i);
   return vintK::load_aligned(idx);
 }
+
+/// Bit mask of the true lanes of a K-wide comparison (lane i -> bit i).
+inline uint32_t lane_mask(vboolK m) {
+#if XSIMD_WITH_AVX512F
+  return static_cast<uint32_t>(static_cast<__mmask16>(m));
+#elif XSIMD_WITH_AVX
+  return static_cast<uint32_t>(_mm256_movemask_ps(m));
+#else
+  return static_cast<uint32_t>(_mm_movemask_ps(m));
+#endif
+}
+
+/// The K-wide mask whose lane i is bit i of `bits`.
+inline vboolK lanes_of_mask(uint32_t bits) {
+#if XSIMD_WITH_AVX512F
+  return vboolK(static_cast<__mmask16>(bits));
+#else
+  alignas(64) int32_t one_bit[kLanes];
+  for (std::size_t i = 0; i < kLanes; ++i) one_bit[i] = int32_t(1u << i);
+  vintK selected = vintK(static_cast<int32_t>(bits)) & vintK::load_aligned(one_bit);
+  return xsimd::bool_cast(selected != vintK(0));
+#endif
+}
+
+#if XSIMD_WITH_AVX512F
+/// The upper and lower 256-bit halves of a 16-lane batch.
+inline __m256 upper_half(__m512 v) { return _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)); }
+#endif
+
+/// Smallest of the K lanes; the lanes must not be NaN.
+inline float reduce_min_k(vfloatK v) {
+#if XSIMD_WITH_AVX512F
+  __m256 a = _mm256_min_ps(_mm512_castps512_ps256(v), upper_half(v));
+  __m128 b = _mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+  b = _mm_min_ps(b, _mm_movehl_ps(b, b));
+  return _mm_cvtss_f32(_mm_min_ss(b, _mm_movehdup_ps(b)));
+#else
+  alignas(64) float lanes[kLanes];
+  v.store_aligned(lanes);
+  float m = lanes[0];
+  for (std::size_t i = 1; i < kLanes; ++i) m = lanes[i] < m ? lanes[i] : m;
+  return m;
+#endif
+}
+
+/// Largest of the K lanes; the lanes must not be NaN.
+inline float reduce_max_k(vfloatK v) {
+#if XSIMD_WITH_AVX512F
+  __m256 a = _mm256_max_ps(_mm512_castps512_ps256(v), upper_half(v));
+  __m128 b = _mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+  b = _mm_max_ps(b, _mm_movehl_ps(b, b));
+  return _mm_cvtss_f32(_mm_max_ss(b, _mm_movehdup_ps(b)));
+#else
+  alignas(64) float lanes[kLanes];
+  v.store_aligned(lanes);
+  float m = lanes[0];
+  for (std::size_t i = 1; i < kLanes; ++i) m = lanes[i] > m ? lanes[i] : m;
+  return m;
+#endif
+}
+
+/// Smallest of the four lanes; the lanes must not be NaN.
+inline float reduce_min(vfloat4 v) {
+  __m128 a = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+  a = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtss_f32(a);
+}
+
+/// Returns v unchanged, rounded to float: the compiler cannot contract a
+/// product passed through here into an FMA with what follows. Watertight edge
+/// functions a*b - c*d need both products rounded so that the two triangles
+/// sharing an edge compute exactly opposite values.
+inline vfloat4 keep_rounded(vfloat4 v) {
+  __m128 x = v;
+  asm("" : "+x"(x));
+  return x;
+}
+
+/// Hints the cache to load the 64-byte line holding p.
+inline void prefetch_l1(const void* p) { _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0); }
+
+/// Flushes denormal results and inputs to zero on the calling thread (what
+/// Embree asks of its callers). Results change only where a value would be
+/// denormal, below 1.2e-38 in magnitude.
+inline void enable_flush_denormals_to_zero() { _mm_setcsr(_mm_getcsr() | 0x8040u); }
 
 }  // namespace pt

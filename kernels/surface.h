@@ -79,9 +79,6 @@ inline Vec3T<T> offset_origin(const Vec3T<T>& p, const Vec3T<T>& ng, T offset, c
   return {p.x + ng.x * d, p.y + ng.y * d, p.z + ng.z * d};
 }
 
-inline Vec3T<float> vec3t(const float3& a) { return {a.x, a.y, a.z}; }
-inline float3 to_float3(const Vec3T<float>& v) { return {v.x, v.y, v.z}; }
-
 inline SurfacePoint surface_at(const Scene& s, const Ray& ray, const Hit& hit) {
   SurfacePoint sp;
   if (hit.is_sphere()) {

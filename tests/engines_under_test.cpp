@@ -14,13 +14,13 @@ const std::vector<EngineUnderTest>& engines_under_test() {
        [](const Scene& s, const Camera& c, const RenderSettings& rs) { return reference::render_reference(s, c, rs); }},
       {"wavefront",
        [](const Scene& s, const Camera& c, const RenderSettings& rs) {
-         reference::ReferenceAccel accel(s, reference::AccelMode::kBvh);
-         return wf::render_wavefront(s, c, rs, wf::Bvh2Tracer{accel});
+         SceneBvh4 bvh(s);
+         return wf::render_wavefront(s, c, rs, wf::Bvh4Tracer<>{bvh});
        }},
       {"megakernel",
        [](const Scene& s, const Camera& c, const RenderSettings& rs) {
-         reference::ReferenceAccel accel(s, reference::AccelMode::kBvh);
-         return wf::render_megakernel(s, c, rs, wf::Bvh2Tracer{accel});
+         SceneBvh4 bvh(s);
+         return wf::render_megakernel(s, c, rs, wf::Bvh4Tracer<>{bvh});
        }},
   };
   return engines;

@@ -66,7 +66,7 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.ns = ts.ns;
   s.offset = ts.offset;
   s.material = vintK::gather(tris.material, tri);
-  if (uint64_t sphere_lanes = bitmask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
+  if (uint64_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
   return s;
 }
 

@@ -35,7 +35,7 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
     vboolK survive = valid && random_float<vuintK, vfloatK>(pixel_k, sample_k, dim_key) < p;
     LaneFloats inv_p(vfloatK(1.0f) / p);
     LaneUints paths_of(path);
-    for_each_lane(bitmask(survive), [&](size_t l) {
+    for_each_lane(lane_mask(survive), [&](size_t l) {
       uint32_t path_id = paths_of[l];
       paths.beta_r[path_id] *= inv_p[l];
       paths.beta_g[path_id] *= inv_p[l];

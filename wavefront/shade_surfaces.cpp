@@ -72,7 +72,7 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
 /// Pushes the shadow ray of one light sample per lane where it can contribute.
 void push_light_sample(const Chunk& c, vboolK ok, const V3& wi, vfloatK tmax, const V3& weight, ShadowQueue& q) {
   ok = ok && dot(c.s.ns, wi) > vfloatK(0.0f) && dot(c.s.ng, wi) > vfloatK(0.0f);
-  uint64_t mask = bitmask(ok);
+  uint64_t mask = lane_mask(ok);
   if (!mask) return;
   push_shadow_lanes(mask, q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, tmax, c.path, weight);
 }
@@ -146,7 +146,7 @@ void sample_by_hitting(const WaveContext& ctx, const Chunk& c, vboolK on, Shadow
     vboolK ok = on && dot(c.s.ng, wi) > vfloatK(0.0f);
     vfloatK g = hit_sampling_weight(rs, local.z) * scale;
     V3 w{beta_f.x * g, beta_f.y * g, beta_f.z * g};
-    push_shadow_lanes(bitmask(ok), q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, vfloatK(kInfinity), c.path, w);
+    push_shadow_lanes(lane_mask(ok), q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, vfloatK(kInfinity), c.path, w);
   }
 }
 
@@ -157,7 +157,7 @@ void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
   V3 local = sample_cosine_hemisphere(u1, u2);
   V3 wi = to_world(c.s.ns.x, c.s.ns.y, c.s.ns.z, local.x, local.y, local.z);
   vboolK ok = c.reflects && dot(wi, c.s.ng) > vfloatK(0.0f);
-  uint64_t mask = bitmask(ok);
+  uint64_t mask = lane_mask(ok);
   if (!mask) return;
   LaneFloats br(c.beta.x * c.albedo.x), bg(c.beta.y * c.albedo.y), bb(c.beta.z * c.albedo.z);
   LaneFloats pdf(local.z * vfloatK(kInvPi));
@@ -192,7 +192,7 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
     vboolK emits = s.hit && as_float_mask(vintK::gather(mats.emits.data(), s.material) != vintK(0));
-    uint64_t emission_lanes = bitmask(emits) | (escapes_count ? bitmask(s.valid && !s.hit) : 0);
+    uint64_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);
     if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
     if (!direct && !samples_bsdf) continue;
 

@@ -91,7 +91,8 @@ ParseResult parse_command_line(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, Engine>{{"reference", Engine::kReference},
                                                                         {"wavefront", Engine::kWavefront},
                                                                         {"megakernel", Engine::kMegakernel}}));
-  app.add_option("--bvh", o.accel, "Acceleration structure: bvh4, bvh2 (midpoint split) or none (brute force)")
+  app.add_option("--bvh", o.accel,
+                 "Acceleration structure: bvh4 (4-wide SIMD BVH, default), bvh2 (midpoint split) or none (brute force)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, AccelChoice>{
           {"bvh4", AccelChoice::kBvh4}, {"bvh2", AccelChoice::kBvh2}, {"none", AccelChoice::kNone}}));
   app.add_option("--leaf-size", o.max_leaf_size, "Maximum primitives per leaf of the bvh2 build");

@@ -27,7 +27,7 @@ struct Options {
   std::string label = "render";      ///< --label: method name in the CSV
   RenderSettings settings;
   Engine engine = Engine::kWavefront;
-  AccelChoice accel = AccelChoice::kBvh2;
+  AccelChoice accel = AccelChoice::kBvh4;
   uint32_t max_leaf_size = 4;
   bool cs184_framing = false;
   bool quiet = false;

@@ -15,27 +15,39 @@ namespace pt::cli {
 EngineRunner::EngineRunner(const Options& o, const Scene& scene, const Camera& camera)
     : options_(o), scene_(scene), camera_(camera) {
   auto start = std::chrono::steady_clock::now();
-  if (o.accel == AccelChoice::kBvh4) throw InputError("--bvh bvh4 is not available yet; use bvh2 or none");
-  bvh2_ = std::make_unique<reference::ReferenceAccel>(
-      scene, o.accel == AccelChoice::kNone ? reference::AccelMode::kBruteForce : reference::AccelMode::kBvh,
-      o.max_leaf_size);
+  if (o.accel == AccelChoice::kBvh4 && o.engine != Engine::kReference) {
+    bvh4_ = std::make_unique<SceneBvh4>(scene);
+  } else {
+    reference::AccelMode mode = o.accel == AccelChoice::kNone   ? reference::AccelMode::kBruteForce
+                                : o.accel == AccelChoice::kBvh2 ? reference::AccelMode::kBvh
+                                                                : reference::AccelMode::kBvh4;
+    reference_accel_ = std::make_unique<reference::ReferenceAccel>(scene, mode, o.max_leaf_size);
+  }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+namespace {
+
+/// Runs a pass-based engine on `tracer`.
+template <class Tracer>
+RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camera& camera, const RenderSettings& rs,
+                               const RenderControl& control, const Tracer& tracer) {
+  if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracer, control);
+  wf::StageStats stages;
+  RenderOutput out = wf::render_wavefront(scene, camera, rs, tracer, {}, control, &stages);
+  if (o.stats) print_stage_stats(stages, out.stats);
+  return out;
+}
+
+}  // namespace
+
 RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control) const {
-  switch (options_.engine) {
-    case Engine::kReference:
-      return reference::render_reference(scene_, *bvh2_, camera_, rs, control);
-    case Engine::kWavefront: {
-      wf::StageStats stages;
-      RenderOutput out = wf::render_wavefront(scene_, camera_, rs, wf::Bvh2Tracer{*bvh2_}, {}, control, &stages);
-      if (options_.stats) print_stage_stats(stages, out.stats);
-      return out;
-    }
-    case Engine::kMegakernel:
-      return wf::render_megakernel(scene_, camera_, rs, wf::Bvh2Tracer{*bvh2_}, control);
-  }
-  throw InputError("unknown engine");
+  if (options_.engine == Engine::kReference)
+    return reference::render_reference(scene_, *reference_accel_, camera_, rs, control);
+  if (!bvh4_) return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh2Tracer{*reference_accel_});
+  if (options_.stats)  // count primitive tests only when asked: it costs time
+    return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<true>{*bvh4_});
+  return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<false>{*bvh4_});
 }
 
 }  // namespace pt::cli

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "bvh/scene_bvh4.h"
 #include "cli_options.h"
 #include "kernels/render_job.h"
 #include "tests/reference/reference_accel.h"
@@ -24,7 +25,8 @@ class EngineRunner {
   const Options& options_;
   const Scene& scene_;
   const Camera& camera_;
-  std::unique_ptr<reference::ReferenceAccel> bvh2_;
+  std::unique_ptr<reference::ReferenceAccel> reference_accel_;  ///< reference engine, or --bvh bvh2 / none
+  std::unique_ptr<SceneBvh4> bvh4_;                             ///< wavefront / megakernel with --bvh bvh4
   double build_seconds_ = 0.0;
 };
 

@@ -9,6 +9,7 @@ namespace pt::reference {
 
 ReferenceAccel::ReferenceAccel(const Scene& scene, AccelMode mode, uint32_t max_leaf_size)
     : scene_(scene), mode_(mode) {
+  if (mode_ == AccelMode::kBvh4) bvh4_ = std::make_unique<SceneBvh4>(scene);
   if (mode_ != AccelMode::kBvh) return;
   std::vector<BBox> boxes;
   std::vector<float3> centers;
@@ -42,6 +43,12 @@ bool ReferenceAccel::test_primitive(uint32_t prim, const Ray& ray, float tmax, H
 }
 
 bool ReferenceAccel::intersect(const Ray& ray, Hit& hit, uint64_t& tests) const {
+  if (mode_ == AccelMode::kBvh4) {
+    TraversalCounters c;
+    bool found = bvh4_->intersect(ray, hit, c);
+    tests += c.primitives;
+    return found;
+  }
   hit = Hit{};
   hit.t = ray.tmax;
   float tmax = ray.tmax;
@@ -63,6 +70,12 @@ bool ReferenceAccel::intersect(const Ray& ray, Hit& hit, uint64_t& tests) const 
 }
 
 bool ReferenceAccel::occluded(const Ray& ray, uint64_t& tests) const {
+  if (mode_ == AccelMode::kBvh4) {
+    TraversalCounters c;
+    bool blocked = bvh4_->occluded(ray, c);
+    tests += c.primitives;
+    return blocked;
+  }
   Hit scratch;
   if (mode_ == AccelMode::kBruteForce) {
     uint32_t n = static_cast<uint32_t>(scene_.primitive_count());

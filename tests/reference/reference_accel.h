@@ -1,21 +1,26 @@
 // The reference renderer's ray queries: a binary BVH built with the
 // assignment's midpoint split, or brute force over every primitive, with
-// Moller-Trumbore triangles and analytic spheres. Counts primitive tests.
+// Moller-Trumbore triangles and analytic spheres; or the 4-wide SIMD BVH
+// (SceneBvh4). Counts primitive tests.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "bvh/bvh2.h"
+#include "bvh/scene_bvh4.h"
 #include "kernels/ray.h"
 #include "kernels/scene.h"
 
 namespace pt::reference {
 
-enum class AccelMode { kBvh, kBruteForce };
+/// kBvh: the midpoint binary BVH; kBruteForce: every primitive; kBvh4: SceneBvh4.
+enum class AccelMode { kBvh, kBruteForce, kBvh4 };
 
 class ReferenceAccel {
  public:
+  /// max_leaf_size applies to kBvh only.
   ReferenceAccel(const Scene& scene, AccelMode mode, uint32_t max_leaf_size = 4);
 
   /// Closest hit with ray.tmin <= t < ray.tmax; `tests` counts primitive tests.
@@ -34,6 +39,7 @@ class ReferenceAccel {
   const Scene& scene_;
   AccelMode mode_;
   Bvh2 bvh_;
+  std::unique_ptr<SceneBvh4> bvh4_;
 };
 
 }  // namespace pt::reference

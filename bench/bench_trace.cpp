@@ -1,0 +1,210 @@
+// bench_trace: the ray tracing benchmark (Google Benchmark, JSON with
+// --benchmark_out). Per scene and ray set (primary, diffuse, shadow), every
+// tracer in the same process on the same rays, 1 and 2 threads, as rays/s
+// counters: this BVH4 (single rays with Moller-Trumbore and watertight
+// leaves; packets of kLanes rays on primary rays; the batch for incoherent
+// rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
+// 4/8/16 on primary rays) built with high and default quality; plus build
+// times and memory. Every tracer is validated ray by ray before it is timed.
+//   bench_trace [--quick] [--export-rays DIR] [benchmark flags]
+// --quick: two small scenes and fewer rays (a smoke run); --export-rays:
+// write every scene's triangles and ray sets for trace_rays, then exit.
+// 1-thread rates are over thread CPU time, 2-thread rates over wall time.
+#include <benchmark/benchmark.h>
+
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "bench_fixture.h"
+#include "bench_scenes.h"
+#include "ray_driver.h"
+#include "ray_files.h"
+
+namespace pt::bench {
+namespace {
+
+struct SceneSpec {
+  std::string label, file;
+  int subdivide = 0;
+  bool small = false;  ///< brute force joins in
+};
+
+std::vector<SceneSpec> scene_list(bool quick) {
+  if (quick) return {{"CBgems", "CBgems.dae", 0, true}, {"CBbunny", "CBbunny.dae"}};
+  return {{"CBgems", "CBgems.dae", 0, true}, {"teapot", "teapot.dae", 0, true}, {"CBcoil", "CBcoil.dae"},
+          {"CBbunny", "CBbunny.dae"},        {"bunny", "bunny.dae"},              {"CBbunny_x4", "CBbunny.dae", 1},
+          {"CBbunny_x16", "CBbunny.dae", 2}, {"CBbunny_x64", "CBbunny.dae", 3}};
+}
+
+FixtureOptions g_options;
+std::map<std::string, std::unique_ptr<SceneFixture>> g_fixtures;
+
+/// The scene's fixture, created on first use (nullptr when the scene file is absent).
+SceneFixture* fixture(const SceneSpec& spec) {
+  auto it = g_fixtures.find(spec.label);
+  if (it != g_fixtures.end()) return it->second.get();
+  std::unique_ptr<SceneFixture> f;
+  if (std::optional<Scene> s = load_triangle_scene(spec.file))
+    f = std::make_unique<SceneFixture>(spec.label, subdivide_scene(*s, spec.subdivide), g_options);
+  return (g_fixtures[spec.label] = std::move(f)).get();
+}
+
+void trace_benchmark(benchmark::State& state, SceneSpec spec, RayKind kind, std::string tracer, int threads) {
+  SceneFixture* f = fixture(spec);
+  if (!f) return state.SkipWithError(("scene file absent: " + spec.file).c_str());
+  const TracerEntry* t = nullptr;
+  for (const TracerEntry& e : f->tracers()) t = e.name == tracer ? &e : t;
+  if (!t) return state.SkipWithError((tracer + " is not available").c_str());
+  if (const std::string& err = f->validate(*t, kind); !err.empty()) return state.SkipWithError(err.c_str());
+  size_t n = std::min(f->rays(kind).rays.size(), t->max_rays);
+  std::vector<Hit> hits(n);
+  std::vector<uint8_t> blocked(n);
+  for (auto _ : state) {
+    run_tracer(*t, kind, n, threads, hits.data(), blocked.data());
+    benchmark::DoNotOptimize(hits.data());
+    benchmark::DoNotOptimize(blocked.data());
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(n) * state.iterations(), benchmark::Counter::kIsRate);
+  state.counters["rays"] = double(n);
+  state.counters["mismatches"] = double(f->mismatches(*t, kind));
+  if (tracer.rfind("bvh4", 0) == 0) {
+    TraversalCounters c = f->bvh4_work(kind, tracer == "bvh4_watertight");
+    state.counters["nodes_per_ray"] = double(c.nodes) / f->rays(kind).rays.size();
+    state.counters["triangles_per_ray"] = double(c.primitives) / f->rays(kind).rays.size();
+  }
+}
+
+void build_bvh4_benchmark(benchmark::State& state, SceneSpec spec, int threads) {
+  SceneFixture* f = fixture(spec);
+  if (!f) return state.SkipWithError(("scene file absent: " + spec.file).c_str());
+  Bvh4Options o;
+  o.threads = threads;
+  Bvh4BuildStats stats;
+  for (auto _ : state) {
+    Bvh4 bvh = build_bvh4(f->scene().positions, f->scene().triangles, o, &stats);
+    state.SetIterationTime(stats.build_ms / 1000.0);
+  }
+  state.counters["triangles"] = stats.triangles;
+  state.counters["bytes_per_triangle"] = stats.bytes_per_triangle;
+  state.counters["nodes"] = stats.nodes;
+  state.counters["leaves"] = stats.leaves;
+  state.counters["blocks"] = stats.blocks;
+  state.counters["depth"] = stats.depth;
+  state.counters["sah_cost"] = stats.sah_cost;
+}
+
+#ifdef PT_HAVE_EMBREE
+void build_embree_benchmark(benchmark::State& state, SceneSpec spec, RTCBuildQuality quality, int threads) {
+  SceneFixture* f = fixture(spec);
+  if (!f) return state.SkipWithError(("scene file absent: " + spec.file).c_str());
+  int64_t bytes = 0;
+  for (auto _ : state) {
+    double ms = 0;
+    arena_of(threads).execute([&] {
+      EmbreeTracer t(f->scene(), quality);
+      ms = t.build_ms();
+      bytes = t.bytes();
+    });
+    state.SetIterationTime(ms / 1000.0);
+  }
+  state.counters["triangles"] = double(f->scene().triangles.size());
+  state.counters["bytes_per_triangle"] = double(bytes) / double(f->scene().triangles.size());
+}
+#endif
+
+std::vector<std::string> tracer_names(const SceneSpec& spec, RayKind kind) {
+  std::vector<std::string> names = {"bvh4", "bvh4_watertight", "bvh2_midpoint"};
+  if (kind == RayKind::kPrimary) names.push_back("bvh4_packet");
+  else names.push_back("bvh4_incoherent");
+  if (spec.small) names.push_back("brute_force");
+#ifdef PT_HAVE_EMBREE
+  names.insert(names.end(), {"embree_high_single", "embree_default_single"});
+  if (kind == RayKind::kPrimary)
+    names.insert(names.end(), {"embree_high_packet4", "embree_high_packet8", "embree_high_packet16"});
+#endif
+  return names;
+}
+
+/// The targets compare this BVH4 and Embree at 1 and 2 threads; the others run on 1.
+bool runs_on_two_threads(const std::string& tracer) {
+  return (tracer.rfind("bvh4", 0) == 0 && tracer != "bvh4_watertight") || tracer.rfind("embree_high", 0) == 0;
+}
+
+void register_benchmarks(const std::vector<SceneSpec>& specs) {
+  for (const SceneSpec& spec : specs) {
+    for (int threads : {1, 2})
+      benchmark::RegisterBenchmark(("build/" + spec.label + "/bvh4/threads:" + std::to_string(threads)).c_str(),
+                                   build_bvh4_benchmark, spec, threads)
+          ->UseManualTime()->Unit(benchmark::kMillisecond);
+#ifdef PT_HAVE_EMBREE
+    for (int threads : {1, 2})
+      for (auto [name, quality] : {std::pair{"embree_high", RTC_BUILD_QUALITY_HIGH}, {"embree_default", RTC_BUILD_QUALITY_MEDIUM}})
+        benchmark::RegisterBenchmark(
+            ("build/" + spec.label + "/" + name + "/threads:" + std::to_string(threads)).c_str(),
+            build_embree_benchmark, spec, quality, threads)
+            ->UseManualTime()->Unit(benchmark::kMillisecond);
+#endif
+    for (RayKind kind : {RayKind::kPrimary, RayKind::kDiffuse, RayKind::kShadow})
+      for (const std::string& tracer : tracer_names(spec, kind))
+        for (int threads : {1, 2}) {
+          if (threads == 2 && !runs_on_two_threads(tracer)) continue;
+          std::string name = "trace/" + spec.label + "/" + ray_kind_name(kind) + "/" + tracer + "/threads:" +
+                             std::to_string(threads);
+          auto* b = benchmark::RegisterBenchmark(name.c_str(), trace_benchmark, spec, kind, tracer, threads);
+          b->Unit(benchmark::kMillisecond);
+          // One thread: rates over the thread's CPU time, which other processes on a
+          // shared machine do not inflate. Two threads: over wall-clock time.
+          if (threads == 2) b->UseRealTime();
+        }
+  }
+}
+
+int export_rays(const std::vector<SceneSpec>& specs, const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  for (const SceneSpec& spec : specs) {
+    SceneFixture* f = fixture(spec);
+    if (!f) continue;
+    write_triangle_file(dir / (spec.label + ".tris"), f->scene());
+    for (RayKind k : {RayKind::kPrimary, RayKind::kDiffuse, RayKind::kShadow})
+      write_ray_file(dir / (spec.label + "_" + ray_kind_name(k) + ".rays"), f->rays(k).rays);
+    std::cout << "wrote " << spec.label << " (" << f->scene().triangles.size() << " triangles)\n";
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace pt::bench
+
+int main(int argc, char** argv) {
+  using namespace pt::bench;
+  bool quick = false;
+  std::string export_dir;
+  std::vector<char*> rest = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--export-rays") && i + 1 < argc) export_dir = argv[++i];
+    else rest.push_back(argv[i]);
+  }
+  if (quick) g_options = {256, 192, 4096, 3000};
+  std::vector<SceneSpec> specs = scene_list(quick);
+  if (!export_dir.empty()) return export_rays(specs, export_dir);
+  int n = static_cast<int>(rest.size());
+  benchmark::Initialize(&n, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(n, rest.data())) return 1;
+  benchmark::AddCustomContext("rays", std::to_string(g_options.width) + "x" + std::to_string(g_options.height) +
+                                          " primary rays per scene");
+  benchmark::AddCustomContext("bvh4_layout", "128-byte nodes, 160-byte blocks of 4 triangles");
+#ifdef PT_HAVE_EMBREE
+  benchmark::AddCustomContext("embree", EmbreeTracer::version_and_isa());
+#endif
+  register_benchmarks(specs);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  g_fixtures.clear();
+  return 0;
+}

@@ -1,0 +1,45 @@
+// Runs a ray range function over a whole ray set on N threads: one call on
+// the calling thread for N = 1, else chunks of 4096 rays (a multiple of every
+// packet width) spread over a persistent oneTBB arena of N workers. Every worker flushes
+// denormals to zero, as Embree asks, so all tracers run in the same mode.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "kernels/simd.h"
+
+namespace pt::bench {
+
+inline constexpr size_t kRayChunk = 4096;
+
+/// The arena of `threads` workers (1..256), created on first use and kept.
+inline tbb::task_arena& arena_of(int threads) {
+  static std::unique_ptr<tbb::task_arena> arenas[257];
+  threads = std::clamp(threads, 1, 256);
+  if (!arenas[threads]) arenas[threads] = std::make_unique<tbb::task_arena>(threads);
+  return *arenas[threads];
+}
+
+/// Calls f(begin, end) over [0, n) in chunks on `threads` threads.
+template <class F> void run_chunks(size_t n, int threads, F&& f) {
+  if (threads <= 1) {
+    enable_flush_denormals_to_zero();
+    f(size_t{0}, n);
+    return;
+  }
+  size_t chunks = (n + kRayChunk - 1) / kRayChunk;
+  arena_of(threads).execute([&] {
+    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+      enable_flush_denormals_to_zero();
+      f(c * kRayChunk, std::min(n, (c + 1) * kRayChunk));
+    });
+  });
+}
+
+}  // namespace pt::bench

@@ -1,0 +1,26 @@
+// The plain binary files that let anyone time a tracer on exactly the rays
+// another tracer traced (no headers, little-endian):
+//   triangles: float32 x, y, z per vertex, 9 floats per triangle (triangle i = primitive i);
+//   rays:      float32 ox, oy, oz, tmin, dx, dy, dz, tmax (32 bytes per ray, the Ray layout);
+//   hits:      float32 t, uint32 primitive per ray (a miss: t = tmax, 0xFFFFFFFF).
+// Readers throw InputError naming the file.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "kernels/ray.h"
+#include "kernels/scene.h"
+
+namespace pt::bench {
+
+/// A triangle soup as a Scene: vertices 3i, 3i+1, 3i+2 form triangle i.
+Scene read_triangle_file(const std::filesystem::path& path);
+void write_triangle_file(const std::filesystem::path& path, const Scene& scene);
+
+std::vector<Ray> read_ray_file(const std::filesystem::path& path);
+void write_ray_file(const std::filesystem::path& path, const std::vector<Ray>& rays);
+
+void write_hit_file(const std::filesystem::path& path, const std::vector<Hit>& hits);
+
+}  // namespace pt::bench

@@ -1,0 +1,129 @@
+// build_bvh4: input boxes, SAH build, collapse, leaf block fill, statistics.
+#include "bvh4_build.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include "bvh4_collapse.h"
+#include "kernels/ray.h"
+
+namespace pt {
+namespace {
+
+struct Inputs {
+  std::vector<uint32_t> ids;  ///< triangles that enter the BVH
+  std::vector<BBox> boxes;
+  std::vector<float3> centers;
+  float max_abs = 0.0f;
+};
+
+/// Exactly zero area: the cross product of the edges, in double (where the
+/// products of float differences are exact), vanishes. Such a triangle has
+/// nothing to hit, but rounding could make a ray "hit" it at a garbage t.
+bool zero_area(const float3& a, const float3& b, const float3& c) {
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) { e1[k] = double(b[k]) - a[k]; e2[k] = double(c[k]) - a[k]; }
+  return e1[1] * e2[2] == e1[2] * e2[1] && e1[2] * e2[0] == e1[0] * e2[2] && e1[0] * e2[1] == e1[1] * e2[0];
+}
+
+Inputs gather_inputs(std::span<const float3> positions, std::span<const TriangleIndices> triangles) {
+  const size_t n = triangles.size();
+  std::vector<BBox> boxes(n);
+  std::vector<uint8_t> keep(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const TriangleIndices& t = triangles[i];
+      const float3 &a = positions[t.v0], &b = positions[t.v1], &c = positions[t.v2];
+      keep[i] = is_finite(a) && is_finite(b) && is_finite(c) && !zero_area(a, b, c);
+      boxes[i] = BBox::of_point(a);
+      boxes[i].expand(b);
+      boxes[i].expand(c);
+    }
+  });
+  Inputs in;
+  in.ids.reserve(n);
+  in.boxes.reserve(n);
+  in.centers.reserve(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    in.ids.push_back(i);
+    in.boxes.push_back(boxes[i]);
+    in.centers.push_back(boxes[i].center());
+    in.max_abs = std::max({in.max_abs, max_component(abs(boxes[i].lower)), max_component(abs(boxes[i].upper))});
+  }
+  return in;
+}
+
+/// Writes one lane of a block: the triangle's rows in the requested form.
+void write_lane(TriangleBlock4& b, int lane, const float3& p0, const float3& p1, const float3& p2, TriangleForm form) {
+  float3 r1 = form == TriangleForm::kWatertight ? p1 : p1 - p0;
+  float3 r2 = form == TriangleForm::kWatertight ? p2 : p2 - p0;
+  for (int a = 0; a < 3; ++a) {
+    b.v0[a][lane] = p0[a];
+    b.r1[a][lane] = r1[a];
+    b.r2[a][lane] = r2[a];
+  }
+}
+
+void fill_blocks(Bvh4& bvh, const std::vector<uint32_t>& block_prims, const Inputs& in,
+                 std::span<const float3> positions, std::span<const TriangleIndices> triangles) {
+  bvh.blocks.resize(block_prims.size() / 4);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, bvh.blocks.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      TriangleBlock4& b = bvh.blocks[k];
+      for (int lane = 0; lane < 4; ++lane) {
+        uint32_t p = block_prims[4 * k + lane];
+        // Padding lanes repeat lane 0's v0 with zero edges: degenerate, never hit.
+        uint32_t id = in.ids[p != kInvalidId ? p : block_prims[4 * k]];
+        const TriangleIndices& t = triangles[id];
+        const float3& p0 = positions[t.v0];
+        if (p == kInvalidId) write_lane(b, lane, p0, p0, p0, bvh.form);
+        else write_lane(b, lane, p0, positions[t.v1], positions[t.v2], bvh.form);
+        b.prim[lane] = p != kInvalidId ? id : kInvalidId;
+      }
+    }
+  });
+}
+
+}  // namespace
+
+float bvh4_box_padding(float max_abs_coordinate) { return max_abs_coordinate * 0x1p-20f; }
+
+Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndices> triangles,
+                const Bvh4Options& options, Bvh4BuildStats* stats) {
+  auto start = std::chrono::steady_clock::now();
+  Bvh4 bvh;
+  bvh.form = options.watertight ? TriangleForm::kWatertight : TriangleForm::kMollerTrumbore;
+  SahBuildOptions sah = options.sah;
+  CollapseCosts collapse = options.collapse;
+  sah.max_leaf_size = std::clamp<uint32_t>(sah.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
+  collapse.max_leaf_size = std::clamp<uint32_t>(collapse.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
+  Bvh4Topology topo;
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    Inputs in = gather_inputs(positions, triangles);
+    Bvh2 bvh2 = build_bvh2_sah(in.boxes, in.centers, sah);
+    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse);
+    fill_blocks(bvh, topo.block_prims, in, positions, triangles);
+    if (stats) stats->triangles = static_cast<uint32_t>(in.ids.size());
+  });
+  bvh.nodes = std::move(topo.nodes);
+  bvh.root = topo.root;
+  if (stats) {
+    stats->nodes = static_cast<uint32_t>(bvh.nodes.size());
+    stats->leaves = topo.leaves;
+    stats->blocks = static_cast<uint32_t>(bvh.blocks.size());
+    stats->depth = topo.depth;
+    stats->sah_cost = topo.sah_cost;
+    stats->bytes = bvh.nodes.size() * sizeof(Bvh4Node) + bvh.blocks.size() * sizeof(TriangleBlock4);
+    stats->bytes_per_triangle = stats->triangles ? double(stats->bytes) / stats->triangles : 0.0;
+    stats->build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  return bvh;
+}
+
+}  // namespace pt

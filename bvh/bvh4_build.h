@@ -1,0 +1,56 @@
+// Building the 4-wide triangle BVH: binned SAH binary build (bvh2_sah.cpp),
+// collapse to four children (bvh4_collapse.cpp), then the leaf blocks filled
+// with precomputed triangles in BVH order. Reports build statistics.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "bvh2.h"
+#include "bvh4.h"
+#include "bvh4_collapse.h"
+#include "kernels/scene.h"
+
+namespace pt {
+
+/// The defaults (tuned with bench_trace on the CS184 scenes): a binary tree
+/// down to single primitives, so that the collapse picks the leaves (up to 16
+/// primitives); a leaf costs a fixed 0.7 (one memory latency: its blocks are
+/// contiguous and load together) plus 0.3 per block, a node 1; and a cost
+/// model for rays that start inside the scene with a length of about half its
+/// mean extent (path-tracing bounce and shadow rays).
+struct Bvh4Options {
+  int threads = 0;          ///< build threads; 0: all available
+  bool watertight = false;  ///< leaves for the watertight test instead of Moller-Trumbore
+  SahBuildOptions sah{.bins = 32, .max_leaf_size = 1, .leaf_block = 4, .traversal_cost = 1.0f, .ray_length = 0.5f};
+  CollapseCosts collapse{.node = 1.0f, .leaf = 0.7f, .block = 0.3f, .max_leaf_size = 16, .ray_length = 0.5f};
+  /// SceneBvh4's incoherent batches reorder rays when the tree has at least this
+  /// many bytes (measured on this project's machine, 1 MiB of L2 per core:
+  /// reordering loses below 2 MiB and wins above 20 MiB).
+  size_t reorder_min_bytes = size_t(4) << 20;
+};
+
+struct Bvh4BuildStats {
+  uint32_t triangles = 0;      ///< in the BVH: those with a non-finite vertex or zero area are left out
+  uint32_t nodes = 0, leaves = 0, blocks = 0;
+  int depth = 0;               ///< inner-node levels
+  double sah_cost = 0;         ///< node visits + block tests, area-weighted, root area 1
+  size_t bytes = 0;            ///< nodes + leaf blocks
+  double bytes_per_triangle = 0;
+  double build_ms = 0;         ///< SAH build + collapse + leaf fill
+};
+
+/// BVH4 over triangle i = (positions[t.v0], positions[t.v1], positions[t.v2])
+/// for t = triangles[i]; hits report prim = i. Triangles with a non-finite
+/// vertex or exactly zero area are left out (they can never be hit). The tree
+/// does not depend on `options.threads`.
+Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndices> triangles,
+                const Bvh4Options& options, Bvh4BuildStats* stats = nullptr);
+
+/// Absolute padding added to every node box: 2^-20 of the largest coordinate
+/// magnitude, several times the rounding error of the FMA slab test for
+/// origins within that magnitude, so no box test misses a hit by rounding.
+float bvh4_box_padding(float max_abs_coordinate);
+
+}  // namespace pt

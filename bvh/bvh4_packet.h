@@ -1,0 +1,151 @@
+// Packets of K = kLanes coherent rays (the camera rays of a pixel block)
+// through the 4-wide BVH. SIMD runs across the rays: each child box and each
+// leaf triangle is tested against the whole packet at once, children hit by
+// any active ray are visited nearest first, and the stack holds (node, rays)
+// pairs. When the packet agrees on the direction signs (the usual case for
+// camera rays) the slab test reads only near and far planes, as the single-ray
+// test does. Moller-Trumbore leaves only; for incoherent rays the single-ray
+// traversal (bvh4_traverse.h) is faster.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "bvh4.h"
+#include "bvh4_traverse.h"
+#include "kernels/ray.h"
+#include "kernels/simd.h"
+
+namespace pt {
+
+/// K rays in SoA form with the per-packet constants of the slab test.
+struct RayPacket {
+  vfloatK org[3], dir[3], rdir[3], org_rdir[3], tmin, tmax;
+  uint32_t active = 0;   ///< lanes that trace (requested and traceable)
+  bool uniform = false;  ///< all active lanes share the sign of each direction component
+  uint32_t near[3] = {}, far[3] = {};  ///< plane rows when uniform
+};
+
+/// Closest hits of a packet in SoA form; lanes without a hit keep prim = kInvalidId.
+struct PacketHits {
+  vfloatK u = vfloatK(0.0f), v = vfloatK(0.0f);
+  vintK prim = vintK(-1);  ///< primitive ids as int32 bit patterns; -1 = kInvalidId
+};
+
+/// Loads rays[i] for the lanes i set in `lanes` (other entries are not read).
+RayPacket load_ray_packet(const Ray* rays, uint32_t lanes);
+
+namespace packet_detail {
+
+/// Entry and exit distances of all rays through child c of `node`.
+template <bool kUniform>
+inline void child_slabs(const Bvh4Node& node, int c, const RayPacket& p, vfloatK& tnear, vfloatK& tfar) {
+  if constexpr (kUniform) {
+    auto plane = [&](uint32_t row) { return vfloatK(node.bounds[row][c]); };
+    tnear = xsimd::max(xsimd::max(plane(p.near[0]) * p.rdir[0] - p.org_rdir[0],
+                                  plane(p.near[1]) * p.rdir[1] - p.org_rdir[1]),
+                       xsimd::max(plane(p.near[2]) * p.rdir[2] - p.org_rdir[2], p.tmin));
+    tfar = xsimd::min(xsimd::min(plane(p.far[0]) * p.rdir[0] - p.org_rdir[0],
+                                 plane(p.far[1]) * p.rdir[1] - p.org_rdir[1]),
+                      xsimd::min(plane(p.far[2]) * p.rdir[2] - p.org_rdir[2], p.tmax));
+  } else {
+    tnear = p.tmin;
+    tfar = p.tmax;
+    for (int a = 0; a < 3; ++a) {
+      vfloatK t0 = vfloatK(node.bounds[2 * a][c]) * p.rdir[a] - p.org_rdir[a];
+      vfloatK t1 = vfloatK(node.bounds[2 * a + 1][c]) * p.rdir[a] - p.org_rdir[a];
+      tnear = xsimd::max(tnear, xsimd::min(t0, t1));
+      tfar = xsimd::min(tfar, xsimd::max(t0, t1));
+    }
+  }
+}
+
+/// Moller-Trumbore of triangle `lane` of block b against the packet's rays in
+/// `lanes`; shortens tmax and records the hit where it is closer.
+inline void intersect_triangle_packet(const TriangleBlock4& b, int lane, uint32_t lanes, RayPacket& p,
+                                      PacketHits& h) {
+  vfloatK e1x(b.r1[0][lane]), e1y(b.r1[1][lane]), e1z(b.r1[2][lane]);
+  vfloatK e2x(b.r2[0][lane]), e2y(b.r2[1][lane]), e2z(b.r2[2][lane]);
+  vfloatK px = p.dir[1] * e2z - p.dir[2] * e2y, py = p.dir[2] * e2x - p.dir[0] * e2z;
+  vfloatK pz = p.dir[0] * e2y - p.dir[1] * e2x;
+  vfloatK det = e1x * px + e1y * py + e1z * pz;
+  vfloatK tx = p.org[0] - vfloatK(b.v0[0][lane]), ty = p.org[1] - vfloatK(b.v0[1][lane]);
+  vfloatK tz = p.org[2] - vfloatK(b.v0[2][lane]);
+  vfloatK u_num = tx * px + ty * py + tz * pz;
+  vfloatK qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
+  vfloatK v_num = p.dir[0] * qx + p.dir[1] * qy + p.dir[2] * qz;
+  vfloatK t_num = e2x * qx + e2y * qy + e2z * qz;
+  vfloatK sign = xsimd::bitofsign(det), abs_det = det ^ sign;
+  vfloatK u_abs = u_num ^ sign, v_abs = v_num ^ sign, t_abs = t_num ^ sign;
+  vboolK valid = lanes_of_mask(lanes) & (det != vfloatK(0.0f)) & (u_abs >= vfloatK(0.0f)) &
+                 (v_abs >= vfloatK(0.0f)) & (u_abs + v_abs <= abs_det) & (t_abs >= abs_det * p.tmin) &
+                 (t_abs < abs_det * p.tmax);
+  if (lane_mask(valid) == 0) return;
+  vfloatK inv = vfloatK(1.0f) / det, t = t_num * inv;
+  valid = valid & (t >= p.tmin) & (t < p.tmax);  // the division may round onto a bound
+  p.tmax = xsimd::select(valid, t, p.tmax);
+  h.u = xsimd::select(valid, u_num * inv, h.u);
+  h.v = xsimd::select(valid, v_num * inv, h.v);
+  h.prim = xsimd::select(xsimd::bool_cast(valid), vintK(static_cast<int32_t>(b.prim[lane])), h.prim);
+}
+
+struct PacketEntry {
+  uint32_t ref, lanes;
+  float dist;
+};
+
+/// Tests the four children; pushes all hit children but the nearest (far
+/// first) and returns the nearest, or kEmptyRef when none is hit.
+template <bool kUniform>
+inline uint32_t visit_node(const Bvh4Node& node, const RayPacket& p, uint32_t& lanes, PacketEntry*& sp) {
+  PacketEntry hit[4];
+  int n = 0;
+  for (int c = 0; c < 4; ++c) {
+    if (!kUniform && node.child[c] == bvh4_ref::kEmptyRef) continue;  // empty slots pass min/max slabs
+    vfloatK tnear, tfar;
+    child_slabs<kUniform>(node, c, p, tnear, tfar);
+    uint32_t m = lanes & lane_mask(tnear <= tfar);
+    if (m == 0) continue;
+    hit[n++] = {node.child[c], m, reduce_min_k(xsimd::select(lanes_of_mask(m), tnear, vfloatK(INFINITY)))};
+  }
+  for (int i = 1; i < n; ++i)  // insertion sort, far first
+    for (int j = i; j > 0 && hit[j - 1].dist < hit[j].dist; --j) std::swap(hit[j - 1], hit[j]);
+  if (n == 0) return bvh4_ref::kEmptyRef;
+  for (int i = 0; i + 1 < n; ++i) *sp++ = hit[i];
+  lanes = hit[n - 1].lanes;
+  return hit[n - 1].ref;
+}
+
+}  // namespace packet_detail
+
+/// Closest hits (Moller-Trumbore form) of the packet's active rays; p.tmax
+/// ends as each ray's hit distance (or its tmax on a miss).
+template <bool kUniform>
+inline void bvh4_intersect_packet(const Bvh4& bvh, RayPacket& p, PacketHits& h) {
+  using namespace packet_detail;
+  if (bvh.empty() || p.active == 0) return;
+  PacketEntry stack[kBvh4StackSize];
+  PacketEntry* sp = stack;
+  uint32_t cur = bvh.root, lanes = p.active;
+  for (;;) {
+    while (!bvh4_ref::is_leaf(cur)) {
+      cur = visit_node<kUniform>(bvh.node(cur), p, lanes, sp);
+      if (cur == bvh4_ref::kEmptyRef) goto pop;
+    }
+    for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n; ++i) {
+      const TriangleBlock4& b = bvh.leaf_blocks(cur)[i];
+      for (int t = 0; t < 4; ++t)
+        if (b.prim[t] != kInvalidId) intersect_triangle_packet(b, t, lanes, p, h);
+    }
+  pop:
+    do {  // skip entries that every ray of theirs has already passed
+      if (sp == stack) return;
+      --sp;
+    } while (sp->dist > reduce_max_k(xsimd::select(lanes_of_mask(sp->lanes), p.tmax, vfloatK(-INFINITY))));
+    cur = sp->ref;
+    lanes = sp->lanes;
+  }
+}
+
+}  // namespace pt

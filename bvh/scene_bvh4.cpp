@@ -1,0 +1,105 @@
+// SceneBvh4 construction.
+#include "scene_bvh4.h"
+
+#include <algorithm>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include "bvh4_packet.h"
+#include "ray_order.h"
+
+namespace pt {
+
+SceneBvh4::SceneBvh4(const Scene& scene, const Bvh4Options& options) : reorder_min_bytes_(options.reorder_min_bytes) {
+  bvh_ = build_bvh4(scene.positions, scene.triangles, options, &stats_);
+  spheres_.reserve(scene.spheres.size());
+  for (const Sphere& s : scene.spheres) {
+    spheres_.push_back({s.center, s.radius});
+    bounds_.expand(BBox{s.center - float3(s.radius), s.center + float3(s.radius)});
+  }
+  for (const float3& p : scene.positions)
+    if (is_finite(p)) bounds_.expand(p);
+}
+
+void SceneBvh4::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+  for (size_t i = 0; i < rays.size(); i += kLanes) {
+    size_t n = std::min(kLanes, rays.size() - i);
+    intersect_packet(&rays[i], &hits[i], n == 32 ? ~0u : (1u << n) - 1);
+  }
+}
+
+namespace {
+
+/// Runs f(k) for k in [0, n) in parallel in the calling arena.
+template <class F> void for_each_index(size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) f(k);
+  });
+}
+
+/// The rays in coherent_order, copied: the copy's independent loads overlap,
+/// while loads through the index inside the traversal loop would each stall.
+std::vector<Ray> gather_in_order(std::span<const Ray> rays, const std::vector<uint32_t>& order) {
+  std::vector<Ray> sorted(rays.size());
+  for_each_index(rays.size(), [&](size_t k) { sorted[k] = rays[order[k]]; });
+  return sorted;
+}
+
+}  // namespace
+
+void SceneBvh4::intersect_incoherent(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (stats_.bytes < reorder_min_bytes_) {
+    for_each_index(rays.size(), [&](size_t k) { intersect(rays[k], hits[k]); });
+    return;
+  }
+  std::vector<uint32_t> order = coherent_order(rays, bounds_);
+  std::vector<Ray> sorted = gather_in_order(rays, order);
+  std::vector<Hit> found(rays.size());
+  for_each_index(rays.size(), [&](size_t k) { intersect(sorted[k], found[k]); });
+  for_each_index(rays.size(), [&](size_t k) { hits[order[k]] = found[k]; });
+}
+
+void SceneBvh4::occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
+  if (stats_.bytes < reorder_min_bytes_) {
+    for_each_index(rays.size(), [&](size_t k) { blocked[k] = occluded(rays[k]); });
+    return;
+  }
+  std::vector<uint32_t> order = coherent_order(rays, bounds_);
+  std::vector<Ray> sorted = gather_in_order(rays, order);
+  std::vector<uint8_t> found(rays.size());
+  for_each_index(rays.size(), [&](size_t k) { found[k] = occluded(sorted[k]); });
+  for_each_index(rays.size(), [&](size_t k) { blocked[order[k]] = found[k]; });
+}
+
+void SceneBvh4::intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const {
+  lanes &= kLanes == 32 ? ~0u : (1u << kLanes) - 1;
+  if (bvh_.form != TriangleForm::kMollerTrumbore) {
+    for (uint32_t m = lanes; m != 0; m &= m - 1) intersect(rays[std::countr_zero(m)], hits[std::countr_zero(m)]);
+    return;
+  }
+  RayPacket p = load_ray_packet(rays, lanes);
+  PacketHits h;
+  if (p.uniform) bvh4_intersect_packet<true>(bvh_, p, h);
+  else bvh4_intersect_packet<false>(bvh_, p, h);
+  alignas(64) float t[kLanes], u[kLanes], v[kLanes];
+  alignas(64) int32_t prim[kLanes];
+  p.tmax.store_aligned(t);
+  h.u.store_aligned(u);
+  h.v.store_aligned(v);
+  h.prim.store_aligned(prim);
+  for (uint32_t m = lanes; m != 0; m &= m - 1) {
+    uint32_t i = std::countr_zero(m);
+    Hit& hit = hits[i];
+    uint32_t id = static_cast<uint32_t>(prim[i]);
+    hit = id != kInvalidId ? Hit{t[i], u[i], v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
+    if (spheres_.empty() || !(p.active >> i & 1)) continue;
+    for (uint32_t s = 0; s < spheres_.size(); ++s) {
+      float ts;
+      if (intersect_sphere(rays[i].org, rays[i].dir, rays[i].tmin, hit.t, spheres_[s].center, spheres_[s].radius, ts))
+        hit = {ts, 0.0f, 0.0f, sphere_prim_id(s)};
+    }
+  }
+}
+
+}  // namespace pt
