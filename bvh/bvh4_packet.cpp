@@ -15,7 +15,7 @@ RayPacket load_ray_packet(const Ray* rays, uint32_t lanes) {
     index[i] = ((lanes >> i) & 1 ? int32_t(i) : first) * int32_t(sizeof(Ray) / sizeof(float));
   const vintK offsets = vintK::load_aligned(index);
   const float* base = reinterpret_cast<const float*>(rays);
-  auto field = [&](int f) { return vfloatK::gather(base + f, offsets); };
+  auto field = [&](int f) { return gather(base + f, offsets); };
   p.org[0] = field(0), p.org[1] = field(1), p.org[2] = field(2), p.tmin = field(3);
   p.dir[0] = field(4), p.dir[1] = field(5), p.dir[2] = field(6), p.tmax = field(7);
   vboolK traceable = p.tmin < p.tmax;  // false for NaN

@@ -90,6 +90,31 @@ inline void intersect_triangle_packet(const TriangleBlock4& b, int lane, uint32_
   h.prim = xsimd::select(xsimd::bool_cast(valid), vintK(static_cast<int32_t>(b.prim[lane])), h.prim);
 }
 
+/// Lanes of `lanes` whose rays hit triangle `lane` of block b within
+/// [tmin, tmax) (Moller-Trumbore, as intersect_triangle_packet).
+inline uint32_t occluders_in_packet(const TriangleBlock4& b, int lane, uint32_t lanes, const RayPacket& p) {
+  vfloatK e1x(b.r1[0][lane]), e1y(b.r1[1][lane]), e1z(b.r1[2][lane]);
+  vfloatK e2x(b.r2[0][lane]), e2y(b.r2[1][lane]), e2z(b.r2[2][lane]);
+  vfloatK px = p.dir[1] * e2z - p.dir[2] * e2y, py = p.dir[2] * e2x - p.dir[0] * e2z;
+  vfloatK pz = p.dir[0] * e2y - p.dir[1] * e2x;
+  vfloatK det = e1x * px + e1y * py + e1z * pz;
+  vfloatK tx = p.org[0] - vfloatK(b.v0[0][lane]), ty = p.org[1] - vfloatK(b.v0[1][lane]);
+  vfloatK tz = p.org[2] - vfloatK(b.v0[2][lane]);
+  vfloatK u_num = tx * px + ty * py + tz * pz;
+  vfloatK qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
+  vfloatK v_num = p.dir[0] * qx + p.dir[1] * qy + p.dir[2] * qz;
+  vfloatK t_num = e2x * qx + e2y * qy + e2z * qz;
+  vfloatK sign = xsimd::bitofsign(det), abs_det = det ^ sign;
+  vfloatK u_abs = u_num ^ sign, v_abs = v_num ^ sign, t_abs = t_num ^ sign;
+  vboolK valid = lanes_of_mask(lanes) & (det != vfloatK(0.0f)) & (u_abs >= vfloatK(0.0f)) &
+                 (v_abs >= vfloatK(0.0f)) & (u_abs + v_abs <= abs_det) & (t_abs >= abs_det * p.tmin) &
+                 (t_abs < abs_det * p.tmax);
+  uint32_t m = lane_mask(valid);
+  if (m == 0) return 0;
+  vfloatK t = t_num / det;  // the division may round onto a bound: check as the single-ray test does
+  return m & lane_mask((t >= p.tmin) & (t < p.tmax));
+}
+
 struct PacketEntry {
   uint32_t ref, lanes;
   float dist;
@@ -118,6 +143,42 @@ inline uint32_t visit_node(const Bvh4Node& node, const RayPacket& p, uint32_t& l
 }
 
 }  // namespace packet_detail
+
+/// Any-hit occlusion (Moller-Trumbore form) of the packet's active rays:
+/// returns the lanes blocked within [tmin, tmax). A lane stops traversing once
+/// blocked; the packet stops when every lane is.
+template <bool kUniform>
+inline uint32_t bvh4_occluded_packet(const Bvh4& bvh, const RayPacket& p) {
+  using namespace packet_detail;
+  uint32_t blocked = 0;
+  if (bvh.empty() || p.active == 0) return 0;
+  PacketEntry stack[kBvh4StackSize];
+  PacketEntry* sp = stack;
+  uint32_t cur = bvh.root, lanes = p.active;
+  for (;;) {
+    while (!bvh4_ref::is_leaf(cur)) {
+      cur = visit_node<kUniform>(bvh.node(cur), p, lanes, sp);
+      if (cur == bvh4_ref::kEmptyRef) goto pop;
+    }
+    for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n && lanes; ++i) {
+      const TriangleBlock4& b = bvh.leaf_blocks(cur)[i];
+      for (int t = 0; t < 4 && lanes; ++t)
+        if (b.prim[t] != kInvalidId) {
+          uint32_t hit = occluders_in_packet(b, t, lanes, p);
+          blocked |= hit;
+          lanes &= ~hit;
+        }
+    }
+    if (blocked == p.active) return blocked;
+  pop:
+    do {  // skip entries whose rays are all blocked already
+      if (sp == stack) return blocked;
+      --sp;
+    } while ((sp->lanes & ~blocked) == 0);
+    cur = sp->ref;
+    lanes = sp->lanes & ~blocked;
+  }
+}
 
 /// Closest hits (Moller-Trumbore form) of the packet's active rays; p.tmax
 /// ends as each ray's hit distance (or its tmax on a miss).

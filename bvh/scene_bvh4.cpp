@@ -72,6 +72,29 @@ void SceneBvh4::occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t
   for_each_index(rays.size(), [&](size_t k) { blocked[order[k]] = found[k]; });
 }
 
+uint32_t SceneBvh4::occluded_packet(const Ray* rays, uint32_t lanes) const {
+  lanes &= kLanes == 32 ? ~0u : (1u << kLanes) - 1;
+  uint32_t blocked = 0;
+  if (bvh_.form != TriangleForm::kMollerTrumbore) {
+    for (uint32_t m = lanes; m != 0; m &= m - 1)
+      if (occluded(rays[std::countr_zero(m)])) blocked |= 1u << std::countr_zero(m);
+    return blocked;
+  }
+  for (uint32_t m = spheres_.empty() ? 0 : lanes; m != 0; m &= m - 1) {  // spheres first, per lane
+    const Ray& r = rays[std::countr_zero(m)];
+    if (!ray_is_traceable(r)) continue;
+    for (const SphereShape& sp : spheres_) {
+      float t;
+      if (intersect_sphere(r.org, r.dir, r.tmin, r.tmax, sp.center, sp.radius, t)) {
+        blocked |= 1u << std::countr_zero(m);
+        break;
+      }
+    }
+  }
+  RayPacket p = load_ray_packet(rays, lanes & ~blocked);
+  return blocked | (p.uniform ? bvh4_occluded_packet<true>(bvh_, p) : bvh4_occluded_packet<false>(bvh_, p));
+}
+
 void SceneBvh4::intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const {
   lanes &= kLanes == 32 ? ~0u : (1u << kLanes) - 1;
   if (bvh_.form != TriangleForm::kMollerTrumbore) {

@@ -49,6 +49,10 @@ class SceneBvh4 {
   /// One packet: traces rays[i] into hits[i] for the lanes i < kLanes set in
   /// `lanes`; the other entries of both arrays are neither read nor written.
   void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const;
+  /// One packet of occlusion queries: the lanes i < kLanes set in `lanes`
+  /// whose ray rays[i] is blocked (the same answers as occluded(rays[i])).
+  /// Fastest when the rays are coherent (shadow rays of one pixel's samples).
+  uint32_t occluded_packet(const Ray* rays, uint32_t lanes) const;
 
   /// Closest hits of a large batch of incoherent rays (bounce rays), traced one
   /// by one in parallel in the calling oneTBB arena. When the BVH has at least

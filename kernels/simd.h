@@ -53,6 +53,30 @@ inline vbooliK as_int_mask(vboolK m) {
 #endif
 }
 
+/// base[index[i]] per lane, with the hardware gather where there is one
+/// (xsimd 8.1 gathers floats element by element).
+inline vfloatK gather(const float* base, vintK index) {
+#if XSIMD_WITH_AVX512F
+  return _mm512_i32gather_ps(index, base, 4);
+#elif XSIMD_WITH_AVX2
+  return _mm256_i32gather_ps(base, index, 4);
+#else
+  return vfloatK::gather(base, index);
+#endif
+}
+inline vintK gather(const int32_t* base, vintK index) {
+#if XSIMD_WITH_AVX512F
+  return _mm512_i32gather_epi32(index, base, 4);
+#elif XSIMD_WITH_AVX2
+  return _mm256_i32gather_epi32(base, index, 4);
+#else
+  return vintK::gather(base, index);
+#endif
+}
+inline vuintK gather(const uint32_t* base, vintK index) {
+  return xsimd::bitwise_cast<vuintK>(gather(reinterpret_cast<const int32_t*>(base), index));
+}
+
 /// Lane indices 0, 1, ..., K-1.
 inline vintK lane_index() {
   alignas(64) int32_t idx[kLanes];

@@ -195,5 +195,55 @@ TEST(Bvh4Batch, PacketsMatchSingleRaysOnSharedScenes) {
   }
 }
 
+/// occluded_packet over runs of kLanes rays (the last run partial) answers
+/// like occluded() per ray, and reports no lane outside `lanes`.
+void expect_occlusion_packets_match(const SceneBvh4& bvh, const std::vector<Ray>& rays, const char* what) {
+  int blocked_total = 0;
+  for (size_t first = 0; first < rays.size(); first += kLanes) {
+    size_t n = std::min(kLanes, rays.size() - first);
+    uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+    for (uint32_t lanes : {all, all & 0x5555u, all & 0xF0F0u}) {
+      uint32_t blocked = bvh.occluded_packet(&rays[first], lanes);
+      EXPECT_EQ(blocked & ~lanes, 0u) << what << ": lanes outside the packet reported";
+      for (size_t i = 0; i < n; ++i) {
+        if (!(lanes >> i & 1)) continue;
+        bool single = bvh.occluded(rays[first + i]);
+        blocked_total += single;
+        EXPECT_EQ(single, bool(blocked >> i & 1)) << what << " ray " << first + i << " of lanes " << lanes;
+      }
+    }
+  }
+  EXPECT_GT(blocked_total, 0) << what << ": the comparison is not all misses";
+}
+
+/// Shadow rays from the first hits of camera rays towards `target`, ending
+/// just before it: coherent, like a pixel's shadow rays to an area light.
+std::vector<Ray> shadow_rays_towards(const SceneBvh4& bvh, const std::vector<Ray>& camera, float3 target) {
+  std::vector<Ray> shadows;
+  for (const Ray& r : camera) {
+    Hit h;
+    if (!bvh.intersect(r, h)) continue;
+    float3 p = r.org + r.dir * (h.t * 0.999f);
+    shadows.push_back({p, 0.0f, target - p, 0.999f});
+  }
+  return shadows;
+}
+
+TEST(Bvh4Batch, OcclusionPacketsMatchSingleRays) {
+  Scene room = built_in_scene();  // spheres too
+  SceneBvh4 bvh(room);
+  std::vector<Ray> camera = camera_rays(room, 32, 24);
+  expect_occlusion_packets_match(bvh, shadow_rays_towards(bvh, camera, {0.0f, 1.9f, 0.0f}), "built-in, to the light");
+  expect_occlusion_packets_match(bvh, uniform_random_rays(room, 1000, 5), "built-in, random rays");
+  Scene sphere = tessellated_sphere(4, {0, 0, 0}, 1.0f);
+  SceneBvh4 sphere_bvh(sphere);
+  expect_occlusion_packets_match(sphere_bvh, uniform_random_rays(sphere, 1000, 6), "tessellated sphere");
+  if (!shared_scenes_available()) return;
+  Scene bunny = load_collada_file(shared_scene("CBbunny.dae")).scene;
+  SceneBvh4 bunny_bvh(bunny);
+  expect_occlusion_packets_match(bunny_bvh, shadow_rays_towards(bunny_bvh, camera_rays(bunny, 48, 36), {0.0f, 1.45f, 0.0f}),
+                                 "CBbunny, to the light");
+}
+
 }  // namespace
 }  // namespace pt::test

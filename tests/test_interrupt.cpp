@@ -154,7 +154,7 @@ TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
   std::filesystem::path dir = std::filesystem::temp_directory_path() / "pt_test_interrupt";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  std::vector<std::string> common = {"--engine", "wavefront", "-t", "2", "-s", "512", "-m", "4", "-a", "16", "0.01",
+  std::vector<std::string> common = {"--engine", "wavefront", "-t", "2", "-s", "4096", "-m", "5", "-a", "64", "0.005",
                                      "-r", "96", "72", "-q"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> a = common;
@@ -164,7 +164,7 @@ TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
   std::string out = (dir / "img.png").string(), ck = (dir / "state.bin").string();
   ASSERT_EQ(run_pathtracer(with({"-f", (dir / "full.png").string()}), 0), 0);
 
-  int code = run_pathtracer(with({"-f", out, "--checkpoint", ck, "--checkpoint-every", "0.05"}), 0.5);
+  int code = run_pathtracer(with({"-f", out, "--checkpoint", ck, "--checkpoint-every", "0.05"}), 0.4);
   if (code == 0) GTEST_SKIP() << "render finished before the signal; machine too fast for this check";
   EXPECT_EQ(code, 128 + SIGINT);
   EXPECT_TRUE(std::filesystem::exists(dir / "img.partial.png"));

@@ -8,7 +8,7 @@ namespace {
 
 Vec3T<vfloatK> gather3(const float* f, vintK index) {
   vintK i3 = index * vintK(3);
-  return {vfloatK::gather(f, i3), vfloatK::gather(f, i3 + vintK(1)), vfloatK::gather(f, i3 + vintK(2))};
+  return {gather(f, i3), gather(f, i3 + vintK(1)), gather(f, i3 + vintK(2))};
 }
 
 /// Overwrites the sphere lanes with the scalar reconstruction.
@@ -53,8 +53,8 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
 
   vintK tri = xsimd::select(as_int_mask(triangle), xsimd::bitwise_cast<vintK>(prim), vintK(0));
   vintK t3 = tri * vintK(3);
-  vintK v0 = vintK::gather(tris.indices, t3), v1 = vintK::gather(tris.indices, t3 + vintK(1)),
-        v2 = vintK::gather(tris.indices, t3 + vintK(2));
+  vintK v0 = gather(tris.indices, t3), v1 = gather(tris.indices, t3 + vintK(1)),
+        v2 = gather(tris.indices, t3 + vintK(2));
   Vec3T<vfloatK> dir{vfloatK::load_aligned(&rays.dir_x[i0]), vfloatK::load_aligned(&rays.dir_y[i0]),
                      vfloatK::load_aligned(&rays.dir_z[i0])};
   TriangleSurfaceT<vfloatK> ts = triangle_surface<vfloatK>(
@@ -65,7 +65,7 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.ng = ts.ng;
   s.ns = ts.ns;
   s.offset = ts.offset;
-  s.material = vintK::gather(tris.material, tri);
+  s.material = gather(tris.material, tri);
   if (uint64_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
   return s;
 }

@@ -17,9 +17,11 @@ namespace pt::wf {
 
 /// Renders samples [first_sample, first_sample + samples) of `pixels`; the
 /// radiance of path i ends up in b.paths (path i <-> pixel i / samples).
+/// `packets`: trace the coherent queues (camera rays, and shadow rays from the
+/// camera rays' hits) as SIMD packets.
 template <class Tracer>
 void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint32_t> pixels, uint32_t first_sample,
-              uint32_t samples, WaveBuffers& b, StageStats& stats) {
+              uint32_t samples, bool packets, WaveBuffers& b, StageStats& stats) {
   {
     StageTimer t(stats, Stage::kGenerate);
     generate_camera_rays(ctx, pixels, first_sample, samples, b.paths, b.rays[0]);
@@ -31,7 +33,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     stats.count_alive(depth, rays.size);
     {
       StageTimer t(stats, Stage::kIntersect);
-      intersect_closest(tracer, rays, b.hits, stats.primitive_tests);
+      intersect_closest(tracer, rays, b.hits, stats.primitive_tests, packets && depth == 0);
     }
     if (ctx.settings.shading == ShadingMode::kNormals) {
       StageTimer t(stats, Stage::kShade);
@@ -47,7 +49,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     }
     {
       StageTimer t(stats, Stage::kShadow);
-      trace_shadow_rays(tracer, b.shadows, b.paths, stats.primitive_tests);
+      trace_shadow_rays(tracer, b.shadows, b.paths, stats.primitive_tests, packets && depth == 0);
       trace_hemisphere_rays(tracer, ctx, b.hemisphere, b.paths, stats.primitive_tests);
     }
     stats.shadow_rays += b.shadows.size + b.hemisphere.size;

@@ -26,11 +26,11 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
     vuintK path = vuintK::load_aligned(&candidates.path[i0]);
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
     vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(path), vintK(0));
-    vuintK pixel_k = vuintK::gather(paths.pixel_key.data(), safe_path);
-    vuintK sample_k = vuintK::gather(paths.sample_key.data(), safe_path);
-    vfloatK beta_max = xsimd::max(vfloatK::gather(paths.beta_r.data(), safe_path),
-                                  xsimd::max(vfloatK::gather(paths.beta_g.data(), safe_path),
-                                             vfloatK::gather(paths.beta_b.data(), safe_path)));
+    vuintK pixel_k = gather(paths.pixel_key.data(), safe_path);
+    vuintK sample_k = gather(paths.sample_key.data(), safe_path);
+    vfloatK beta_max = xsimd::max(gather(paths.beta_r.data(), safe_path),
+                                  xsimd::max(gather(paths.beta_g.data(), safe_path),
+                                             gather(paths.beta_b.data(), safe_path)));
     vfloatK p = continuation_probability(rs, beta_max);
     vboolK survive = valid && random_float<vuintK, vfloatK>(pixel_k, sample_k, dim_key) < p;
     LaneFloats inv_p(vfloatK(1.0f) / p);

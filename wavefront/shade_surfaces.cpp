@@ -31,7 +31,7 @@ struct Chunk {
 vintK as_index(vuintK u) { return xsimd::bitwise_cast<vintK>(u); }
 
 V3 gather3(const AlignedVector<float>& r, const AlignedVector<float>& g, const AlignedVector<float>& b, vintK i) {
-  return {vfloatK::gather(r.data(), i), vfloatK::gather(g.data(), i), vfloatK::gather(b.data(), i)};
+  return {gather(r.data(), i), gather(g.data(), i), gather(b.data(), i)};
 }
 
 vfloatK dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
@@ -191,7 +191,7 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
 
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
-    vboolK emits = s.hit && as_float_mask(vintK::gather(mats.emits.data(), s.material) != vintK(0));
+    vboolK emits = s.hit && as_float_mask(gather(mats.emits.data(), s.material) != vintK(0));
     uint64_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);
     if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
     if (!direct && !samples_bsdf) continue;
@@ -199,7 +199,7 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
     vintK path = xsimd::select(as_int_mask(s.valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));
     Chunk c{s,
             xsimd::bitwise_cast<vuintK>(path),
-            SamplerK(rs, vuintK::gather(paths.pixel.data(), path), vuintK::gather(paths.sample.data(), path)),
+            SamplerK(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path)),
             gather3(paths.beta_r, paths.beta_g, paths.beta_b, path),
             gather3(mats.albedo_r, mats.albedo_g, mats.albedo_b, s.material),
             vboolK(false),

@@ -3,17 +3,35 @@
 // traced closest-hit instead and add weight x the emission they find.
 #pragma once
 
+#include <algorithm>
+
 #include "kernels/surface.h"
 #include "streams.h"
 #include "wave_context.h"
 
 namespace pt::wf {
 
+/// With `coherent` (shadow rays from one pixel's first hits) runs of K rays go
+/// through the tracer's SIMD packet traversal.
 template <class Tracer>
-void trace_shadow_rays(const Tracer& tracer, const ShadowQueue& shadows, PathState& paths, uint64_t& tests) {
+void trace_shadow_rays(const Tracer& tracer, const ShadowQueue& shadows, PathState& paths, uint64_t& tests,
+                       bool coherent) {
+  auto add = [&](size_t i) {
+    paths.add_radiance(shadows.path[i], shadows.weight_r[i], shadows.weight_g[i], shadows.weight_b[i]);
+  };
+  if (coherent) {
+    Ray packet[kLanes];
+    for (size_t i0 = 0; i0 < shadows.size; i0 += kLanes) {
+      size_t n = std::min(kLanes, shadows.size - i0);
+      for (size_t l = 0; l < n; ++l) packet[l] = shadows.ray(i0 + l);
+      uint32_t lanes = n == 32 ? ~0u : (1u << n) - 1;
+      uint32_t blocked = tracer.occluded_packet(packet, lanes, tests);
+      for (uint32_t m = lanes & ~blocked; m; m &= m - 1) add(i0 + __builtin_ctz(m));
+    }
+    return;
+  }
   for (size_t i = 0; i < shadows.size; ++i)
-    if (!tracer.occluded(shadows.ray(i), tests))
-      paths.add_radiance(shadows.path[i], shadows.weight_r[i], shadows.weight_g[i], shadows.weight_b[i]);
+    if (!tracer.occluded(shadows.ray(i), tests)) add(i);
 }
 
 template <class Tracer>

@@ -8,10 +8,30 @@
 
 namespace pt::wf {
 
-/// The 4-wide BVH. kCount: also count primitive tests (off in the fast path).
+/// The 4-wide BVH. kCount: also count primitive tests (off in the fast path;
+/// counting traces packets ray by ray).
 template <bool kCount = false>
 struct Bvh4Tracer {
   const SceneBvh4& accel;
+  /// rays[i] -> hits[i] for the lanes set in `lanes`, as one SIMD packet.
+  void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes, uint64_t& tests) const {
+    if constexpr (kCount) {
+      for (uint32_t m = lanes; m; m &= m - 1) intersect(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], tests);
+    } else {
+      accel.intersect_packet(rays, hits, lanes);
+    }
+  }
+  /// The lanes of `lanes` whose rays are blocked, as one SIMD packet.
+  uint32_t occluded_packet(const Ray* rays, uint32_t lanes, uint64_t& tests) const {
+    if constexpr (kCount) {
+      uint32_t blocked = 0;
+      for (uint32_t m = lanes; m; m &= m - 1)
+        if (occluded(rays[__builtin_ctz(m)], tests)) blocked |= 1u << __builtin_ctz(m);
+      return blocked;
+    } else {
+      return accel.occluded_packet(rays, lanes);
+    }
+  }
   bool intersect(const Ray& r, Hit& h, uint64_t& tests) const {
     if constexpr (kCount) {
       TraversalCounters c;
@@ -34,9 +54,22 @@ struct Bvh4Tracer {
   }
 };
 
-/// The reference's accelerators (midpoint binary BVH, or brute force).
+/// The reference's accelerators (midpoint binary BVH, or brute force); no
+/// packet traversal, so packets are traced ray by ray.
 struct Bvh2Tracer {
   const reference::ReferenceAccel& accel;
+  void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes, uint64_t& tests) const {
+    for (uint32_t m = lanes; m; m &= m - 1) {
+      uint32_t i = __builtin_ctz(m);
+      if (!intersect(rays[i], hits[i], tests)) hits[i] = Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
+    }
+  }
+  uint32_t occluded_packet(const Ray* rays, uint32_t lanes, uint64_t& tests) const {
+    uint32_t blocked = 0;
+    for (uint32_t m = lanes; m; m &= m - 1)
+      if (occluded(rays[__builtin_ctz(m)], tests)) blocked |= 1u << __builtin_ctz(m);
+    return blocked;
+  }
   bool intersect(const Ray& r, Hit& h, uint64_t& tests) const { return accel.intersect(r, h, tests); }
   bool occluded(const Ray& r, uint64_t& tests) const { return accel.occluded(r, tests); }
 };

@@ -13,6 +13,7 @@ namespace pt::wf {
 
 struct WavefrontOptions {
   size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
+  bool packets = true;       ///< SIMD packets for camera rays and first-hit shadow rays
 };
 
 /// Renders with `tracer` (intersect / occluded with a test counter). If
@@ -32,7 +33,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
                    RenderStats& stats) {
     WaveBuffers& b = buffers.local();
     StageStats& ss = stages.local();
-    run_wave(ctx, tracer, pixels, first, len, b, ss);
+    run_wave(ctx, tracer, pixels, first, len, options.packets, b, ss);
     StageTimer t(ss, Stage::kAccumulate);
     for (size_t i = 0; i < b.paths.size; ++i) {
       float3 L{b.paths.radiance_r[i], b.paths.radiance_g[i], b.paths.radiance_b[i]};
