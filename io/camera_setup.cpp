@@ -86,7 +86,7 @@ CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) 
       used = 0;
     }
     if (used != tok.size() || !std::isfinite(v))
-      throw InputError(path.string() + ": camera file field " + name + " is not a finite number: \"" + tok + "\"");
+      throw InputError(path.string() + ": camera file field " + name + " is not a finite number: \"" + excerpt(tok) + "\"");
   };
   read("hFov", f.hfov_deg); read("vFov", f.vfov_deg); read("aspect", f.aspect);
   read("nClip", f.near_clip); read("fClip", f.far_clip);
