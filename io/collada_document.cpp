@@ -24,6 +24,30 @@ template <class F> void for_each_token(std::string_view s, F&& f) {
   }
 }
 
+enum class Number { kOk, kNotANumber, kOutOfRange };
+
+/// Strict decimal float: optional sign ('+' or '-'), no hexadecimal. A value
+/// too small for a float (1e-50) becomes 0, as a float cannot hold it.
+Number parse_float(std::string_view tok, float& v) {
+  std::string_view s = tok;
+  if (!s.empty() && s.front() == '+') {
+    s.remove_prefix(1);
+    if (!s.empty() && s.front() == '-') return Number::kNotANumber;
+  }
+  const char* last = s.data() + s.size();
+  auto [end, ec] = std::from_chars(s.data(), last, v);
+  if (ec == std::errc::result_out_of_range) {
+    double d = 0.0;
+    auto [dend, dec] = std::from_chars(s.data(), last, d);
+    if (dec == std::errc() && dend == last && std::fabs(d) < 1.0) {
+      v = static_cast<float>(d);
+      return Number::kOk;
+    }
+    return end == last ? Number::kOutOfRange : Number::kNotANumber;
+  }
+  return ec == std::errc() && end == last ? Number::kOk : Number::kNotANumber;
+}
+
 }  // namespace
 
 ColladaDocument::ColladaDocument(std::string label, std::string text)
@@ -117,12 +141,10 @@ std::vector<std::string> ColladaDocument::warnings() const {
 std::vector<float> ColladaDocument::floats(pugi::xml_node element) const {
   std::vector<float> out;
   for_each_token(element.child_value(), [&](std::string_view tok) {
-    std::string_view digits = (!tok.empty() && tok.front() == '+') ? tok.substr(1) : tok;
     float v = 0.0f;
-    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
-    if (ec == std::errc::result_out_of_range) fail(element, "number \"" + excerpt(tok) + "\" is out of float range");
-    if (ec != std::errc() || end != digits.data() + digits.size())
-      fail(element, "\"" + excerpt(tok) + "\" is not a number");
+    Number n = parse_float(tok, v);
+    if (n == Number::kOutOfRange) fail(element, "number \"" + excerpt(tok) + "\" is out of float range");
+    if (n == Number::kNotANumber) fail(element, "\"" + excerpt(tok) + "\" is not a number");
     if (!std::isfinite(v)) fail(element, "non-finite number \"" + excerpt(tok) + "\"");
     out.push_back(v);
   });
@@ -154,6 +176,8 @@ std::vector<uint32_t> ColladaDocument::indices(pugi::xml_node element, uint64_t 
     uint64_t v = 0;
     auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
     if (!tok.empty() && tok.front() == '-') fail(element, std::string("negative ") + what + " \"" + excerpt(tok) + "\"");
+    if (ec == std::errc::result_out_of_range && end == tok.data() + tok.size())
+      fail(element, std::string(what) + " \"" + excerpt(tok) + "\" is out of range");
     if (ec != std::errc() || end != tok.data() + tok.size())
       fail(element, "\"" + excerpt(tok) + "\" is not a non-negative integer");
     if (v >= limit)
@@ -171,6 +195,8 @@ uint64_t ColladaDocument::count_attribute(pugi::xml_node element, const char* na
   std::string_view s = a.value();
   uint64_t v = 0;
   auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec == std::errc::result_out_of_range && end == s.data() + s.size())
+    fail(element, std::string(name) + "=\"" + excerpt(s) + "\" is larger than the data it describes");
   if (ec != std::errc() || end != s.data() + s.size() || s.empty())
     fail(element, std::string(name) + "=\"" + excerpt(s) + "\" is not a non-negative integer");
   if (v > limit) fail(element, std::string(name) + "=\"" + excerpt(s) + "\" is larger than the data it describes");
