@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "scene_error.h"
+#include "strict_number.h"
 
 namespace pt {
 namespace {
@@ -22,30 +23,6 @@ template <class F> void for_each_token(std::string_view s, F&& f) {
     if (j > i) f(s.substr(i, j - i));
     i = j;
   }
-}
-
-enum class Number { kOk, kNotANumber, kOutOfRange };
-
-/// Strict decimal float: optional sign ('+' or '-'), no hexadecimal. A value
-/// too small for a float (1e-50) becomes 0, as a float cannot hold it.
-Number parse_float(std::string_view tok, float& v) {
-  std::string_view s = tok;
-  if (!s.empty() && s.front() == '+') {
-    s.remove_prefix(1);
-    if (!s.empty() && s.front() == '-') return Number::kNotANumber;
-  }
-  const char* last = s.data() + s.size();
-  auto [end, ec] = std::from_chars(s.data(), last, v);
-  if (ec == std::errc::result_out_of_range) {
-    double d = 0.0;
-    auto [dend, dec] = std::from_chars(s.data(), last, d);
-    if (dec == std::errc() && dend == last && std::fabs(d) < 1.0) {
-      v = static_cast<float>(d);
-      return Number::kOk;
-    }
-    return end == last ? Number::kOutOfRange : Number::kNotANumber;
-  }
-  return ec == std::errc() && end == last ? Number::kOk : Number::kNotANumber;
 }
 
 }  // namespace

@@ -210,6 +210,8 @@ std::string read_file_text(const std::filesystem::path& path) {
   auto status = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(status)) throw InputError(path.string() + ": no such file");
   if (std::filesystem::is_directory(status)) throw InputError(path.string() + ": is a directory, not a scene file");
+  // A FIFO would block the read forever and a device can be endless.
+  if (!std::filesystem::is_regular_file(status)) throw InputError(path.string() + ": is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot be opened for reading");
   in.seekg(0, std::ios::end);
