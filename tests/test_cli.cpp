@@ -4,6 +4,7 @@
 // code 1, reported before rendering starts; and valid values take effect.
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 
@@ -93,7 +94,14 @@ TEST_P(BadFlagsTest, OneExactLineExitCode2NoOutput) {
   expect_refused(dir, {}, run(dir, args), 2, GetParam().message);
 }
 
-INSTANTIATE_TEST_SUITE_P(Table, BadFlagsTest, ::testing::ValuesIn(kBadFlags));
+INSTANTIATE_TEST_SUITE_P(Table, BadFlagsTest, ::testing::ValuesIn(kBadFlags), [](const auto& info) {
+  std::string name = std::to_string(info.index);
+  for (const std::string& a : info.param.args) {
+    name += '_';
+    for (char c : a) name += std::isalnum(static_cast<unsigned char>(c)) ? c : (c == '-' ? 'm' : '_');
+  }
+  return name;
+});
 
 TEST(Flags, OutputThatIsTheSceneFileIsRefused) {
   test::ScratchDir dir;

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <functional>
 
@@ -302,7 +303,7 @@ INSTANTIATE_TEST_SUITE_P(Table, HostileFileTest, ::testing::ValuesIn(all_cases()
                          [](const auto& info) {
                            std::string n = info.param.name;
                            for (char& ch : n)
-                             if (!isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return n;
                          });
 

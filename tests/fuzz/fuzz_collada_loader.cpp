@@ -1,7 +1,8 @@
 // libFuzzer entry point for the COLLADA loader. Every input must either load
 // into a scene that satisfies scene_invariant_violation(), with one-line
-// warnings, or throw pt::InputError with a one-line message naming the file.
-// Anything else (another exception, a sanitizer report, a violated
+// warnings, and renders a tiny image of finite, non-negative pixels with the
+// reference renderer; or throw pt::InputError with a one-line message naming
+// the file. Anything else (another exception, a sanitizer report, a violated
 // invariant) aborts, which libFuzzer and the regression replay report.
 #include <cstdint>
 #include <cstdio>
@@ -9,9 +10,11 @@
 #include <string>
 #include <string_view>
 
+#include "io/camera_setup.h"
 #include "io/collada_loader.h"
 #include "io/scene_error.h"
 #include "scene_invariants.h"
+#include "tests/reference/reference_renderer.h"
 
 namespace {
 
@@ -32,6 +35,22 @@ pt::LoadLimits fuzz_limits() {
   std::abort();
 }
 
+/// Empty if a 4x3, 2-sample, 3-bounce reference render of `scene` has only
+/// finite, non-negative pixels.
+std::string render_violation(const pt::Scene& scene) {
+  pt::RenderSettings rs;
+  rs.width = 4;
+  rs.height = 3;
+  rs.samples_per_pixel = 2;
+  rs.max_depth = 3;
+  rs.adaptive_tolerance = 0.0f;
+  pt::Camera camera = pt::resolve_camera(scene, rs.width, rs.height);
+  pt::RenderOutput out = pt::reference::render_reference(scene, camera, rs);
+  for (const pt::float3& p : out.film.radiance)
+    if (!pt::is_finite(p) || p.x < 0 || p.y < 0 || p.z < 0) return "a pixel is negative or not finite";
+  return {};
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -42,6 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       violation("scene invariant violated", v, pt::scene_summary(r));
     for (const std::string& w : r.warnings)
       if (std::string v = pt::fuzz::message_violation(w, kLabel); !v.empty()) violation("bad warning", v, w);
+    if (std::string v = render_violation(r.scene); !v.empty()) violation("bad render", v, pt::scene_summary(r));
   } catch (const pt::InputError& e) {
     if (std::string v = pt::fuzz::message_violation(e.what(), kLabel); !v.empty())
       violation("bad error message", v, e.what());
