@@ -25,6 +25,13 @@ template <class F> void for_each_token(std::string_view s, F&& f) {
   }
 }
 
+/// Where a parse error is, for its message: "at \"<text>\"" or "at the end of the file".
+std::string text_at(std::string_view text, ptrdiff_t offset) {
+  if (offset < 0 || static_cast<size_t>(offset) >= text.size()) return "at the end of the file";
+  std::string_view rest = text.substr(static_cast<size_t>(offset));
+  return "at \"" + excerpt(rest.substr(0, rest.find('\n')), 24) + "\"";
+}
+
 }  // namespace
 
 ColladaDocument::ColladaDocument(std::string label, std::string text)
@@ -35,7 +42,8 @@ ColladaDocument::ColladaDocument(std::string label, std::string text)
 
   pugi::xml_parse_result r = doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!r)
-    throw InputError(label_ + ":" + std::to_string(line_of_offset(r.offset)) + ": malformed XML: " + r.description());
+    throw InputError(label_ + ":" + std::to_string(line_of_offset(r.offset)) + ": malformed XML " +
+                     text_at(text_, r.offset) + ": " + r.description());
   pugi::xml_node top = doc_.document_element();
   if (!top) throw InputError(label_ + ": no root element");
   if (std::string_view(top.name()) != "COLLADA")
