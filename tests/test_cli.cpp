@@ -194,6 +194,16 @@ TEST(UnwritableOutput, ReadOnlyDirectory) {
   expect_refused(dir, dir.entries(), run(dir, args), 1, "error: ro/out.png: cannot write output here: Permission denied");
 }
 
+TEST(ReferenceImage, WhoseHeaderClaimsMoreThanTheFileHoldsIsRefusedWithoutAllocatingIt) {
+  test::ScratchDir dir;
+  dir.write("huge.pfm", "PF\n65536 65536\n-1.0\n" + std::string(12, '\0'));  // would be 48 GiB of pixels
+  std::vector<std::string> before = dir.entries();
+  test::ProcessResult r = test::run_process(
+      PT_PATHTRACER_BINARY, {"-q", "-r", "4", "3", "--reference", "huge.pfm", "--convergence-csv", "out.csv"},
+      dir.path(), kTimeLimit, size_t(1) << 30);
+  expect_refused(dir, before, r, 1, "error: huge.pfm: PFM data is truncated");
+}
+
 // --------------------------------------------------------- valid values work
 
 TEST(Flags, ResolutionRegionAndDecimalSamplesTakeEffect) {
