@@ -17,7 +17,7 @@ namespace {
 std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
   static std::atomic<unsigned> counter{0};
   std::filesystem::path dir = path.parent_path();
-  std::string name = "." + path.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+  std::string name = std::string(".") + path.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
                      std::to_string(counter.fetch_add(1));
   return dir.empty() ? std::filesystem::path(name) : dir / name;
 }

@@ -8,6 +8,7 @@
 
 #include "atomic_file.h"
 #include "scene_error.h"
+#include "strict_number.h"
 
 namespace pt {
 namespace {
@@ -71,22 +72,22 @@ Camera resolve_camera(const CameraSettingsFile& f, int width, int height) {
 }
 
 CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    bool exists = std::filesystem::exists(path, ec);
+    throw InputError(path.string() + (exists ? ": camera file is not a regular file" : ": camera file does not exist"));
+  }
+  if (std::filesystem::file_size(path, ec) > (1u << 20))
+    throw InputError(path.string() + ": camera file is larger than 1 MiB; not a camera settings file");
   std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) throw InputError(path.string() + ": cannot open camera file");
+  if (!in) throw InputError(path.string() + ": cannot open camera file");
   CameraSettingsFile f;
-  const char* field = "";
   auto read = [&](const char* name, float& v) {
-    field = name;
     std::string tok;
     if (!(in >> tok)) throw InputError(path.string() + ": camera file ends before " + name);
-    size_t used = 0;
-    try {
-      v = std::stof(tok, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used != tok.size() || !std::isfinite(v))
-      throw InputError(path.string() + ": camera file field " + name + " is not a finite number: \"" + tok + "\"");
+    if (parse_float(tok, v) != Number::kOk || !std::isfinite(v))
+      throw InputError(path.string() + ": camera file field " + name + " is not a finite number: \"" + excerpt(tok) +
+                       "\"");
   };
   read("hFov", f.hfov_deg); read("vFov", f.vfov_deg); read("aspect", f.aspect);
   read("nClip", f.near_clip); read("fClip", f.far_clip);
@@ -97,7 +98,6 @@ CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) 
     for (int j = 0; j < 3; ++j) read("c2w", f.c2w[i][j]);
   read("screenW", f.screen_w); read("screenH", f.screen_h); read("screenDist", f.screen_dist);
   read("focalDistance", f.focal_distance); read("lensRadius", f.lens_radius);
-  (void)field;
   if (!(f.hfov_deg > 0 && f.hfov_deg < 180 && f.vfov_deg > 0 && f.vfov_deg < 180))
     throw InputError(path.string() + ": camera file fields of view must be between 0 and 180 degrees");
   if (!(f.near_clip >= 0 && f.far_clip > f.near_clip))

@@ -62,6 +62,8 @@ std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, c
                                             size_t pixel_count) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  if (!std::filesystem::is_regular_file(path, ec))  // a FIFO or device could block or never end
+    throw InputError(path.string() + ": not a usable checkpoint: not a regular file");
   std::ifstream in(path, std::ios::binary);
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   auto corrupt = [&](const char* what) { return InputError(path.string() + ": not a usable checkpoint: " + what); };

@@ -31,6 +31,8 @@ CameraDescription read_camera(ColladaDocument& doc, pugi::xml_node camera, const
       float a = doc.scalar(aspect, 1.0f);
       if (!(a > 0.0f)) doc.fail(aspect, "aspect ratio must be positive");
       c.vfov_deg = 2.0f * std::atan(std::tan(c.hfov_deg / 2.0f / kDegrees) / a) * kDegrees;
+      if (!(c.vfov_deg > 0.0f && c.vfov_deg < 180.0f))
+        doc.fail(aspect, "aspect ratio gives a vertical field of view outside (0, 180) degrees");
     }
     c.near_clip = doc.scalar(persp.child("znear"), c.near_clip);
     c.far_clip = doc.scalar(persp.child("zfar"), c.far_clip);

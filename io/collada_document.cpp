@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "scene_error.h"
+#include "strict_number.h"
 
 namespace pt {
 namespace {
@@ -24,8 +25,11 @@ template <class F> void for_each_token(std::string_view s, F&& f) {
   }
 }
 
-std::string shorten(std::string_view token) {
-  return token.size() <= 24 ? std::string(token) : std::string(token.substr(0, 24)) + "...";
+/// Where a parse error is, for its message: "at \"<text>\"" or "at the end of the file".
+std::string text_at(std::string_view text, ptrdiff_t offset) {
+  if (offset < 0 || static_cast<size_t>(offset) >= text.size()) return "at the end of the file";
+  std::string_view rest = text.substr(static_cast<size_t>(offset));
+  return "at \"" + excerpt(rest.substr(0, rest.find('\n')), 24) + "\"";
 }
 
 }  // namespace
@@ -38,11 +42,12 @@ ColladaDocument::ColladaDocument(std::string label, std::string text)
 
   pugi::xml_parse_result r = doc_.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!r)
-    throw InputError(label_ + ":" + std::to_string(line_of_offset(r.offset)) + ": malformed XML: " + r.description());
+    throw InputError(label_ + ":" + std::to_string(line_of_offset(r.offset)) + ": malformed XML " +
+                     text_at(text_, r.offset) + ": " + r.description());
   pugi::xml_node top = doc_.document_element();
   if (!top) throw InputError(label_ + ": no root element");
   if (std::string_view(top.name()) != "COLLADA")
-    throw InputError(label_ + ":" + std::to_string(line_of(top)) + ": root element is <" + top.name() +
+    throw InputError(label_ + ":" + std::to_string(line_of(top)) + ": root element is <" + excerpt(top.name()) +
                      ">, expected <COLLADA>");
 
   // Index ids iteratively (deep nesting must not exhaust the stack).
@@ -55,7 +60,7 @@ ColladaDocument::ColladaDocument(std::string label, std::string text)
       if (!inserted) {
         pugi::xml_node later = line_of(n) > line_of(it->second) ? n : it->second;
         pugi::xml_node earlier = later == n ? it->second : n;
-        fail(later, std::string("id \"") + id.value() + "\" is already defined on line " +
+        fail(later, "id \"" + excerpt(id.value()) + "\" is already defined on line " +
                         std::to_string(line_of(earlier)));
       }
     }
@@ -72,7 +77,7 @@ pugi::xml_node ColladaDocument::find(std::string_view url) const {
 
 pugi::xml_node ColladaDocument::resolve(pugi::xml_node from, std::string_view url) const {
   pugi::xml_node n = find(url);
-  if (!n) fail(from, "refers to \"" + std::string(url) + "\", which no element defines");
+  if (!n) fail(from, "refers to \"" + excerpt(url) + "\", which no element defines");
   return n;
 }
 
@@ -85,10 +90,11 @@ int ColladaDocument::line_of_offset(ptrdiff_t offset) const {
 int ColladaDocument::line_of(pugi::xml_node element) const { return line_of_offset(element.offset_debug()); }
 
 std::string ColladaDocument::describe(pugi::xml_node e) const {
-  std::string s = "<" + std::string(e.name());
+  std::string s(1, '<');
+  s += excerpt(e.name());
   for (const char* attr : {"id", "sid", "material", "url", "source", "semantic"})
     if (pugi::xml_attribute a = e.attribute(attr)) {
-      s += std::string(" ") + attr + "=\"" + shorten(a.value()) + "\"";
+      s += std::string(" ") + attr + "=\"" + excerpt(a.value()) + "\"";
       break;
     }
   return s + ">";
@@ -101,20 +107,30 @@ void ColladaDocument::fail(pugi::xml_node where, const std::string& what) const 
 
 void ColladaDocument::warn(pugi::xml_node where, const std::string& what) {
   std::string w = label_;
-  if (where) w += ":" + std::to_string(line_of(where)) + ": " + describe(where);
-  warnings_.push_back(w + ": " + what);
+  if (where) w += std::string(":") + std::to_string(line_of(where)) + ": " + describe(where);
+  std::string line = printable_line(w + ": " + what);
+  if (warned_.size() >= kMaxWarnings) {
+    if (!warned_.count(line)) ++warnings_dropped_;
+    return;
+  }
+  if (warned_.insert(line).second) warnings_.push_back(std::move(line));
+}
+
+std::vector<std::string> ColladaDocument::warnings() const {
+  std::vector<std::string> all = warnings_;
+  if (warnings_dropped_ > 0)
+    all.push_back(label_ + ": " + std::to_string(warnings_dropped_) + " further warnings not shown");
+  return all;
 }
 
 std::vector<float> ColladaDocument::floats(pugi::xml_node element) const {
   std::vector<float> out;
   for_each_token(element.child_value(), [&](std::string_view tok) {
-    std::string_view digits = (!tok.empty() && tok.front() == '+') ? tok.substr(1) : tok;
     float v = 0.0f;
-    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
-    if (ec == std::errc::result_out_of_range) fail(element, "number \"" + shorten(tok) + "\" is out of float range");
-    if (ec != std::errc() || end != digits.data() + digits.size())
-      fail(element, "\"" + shorten(tok) + "\" is not a number");
-    if (!std::isfinite(v)) fail(element, "non-finite number \"" + shorten(tok) + "\"");
+    Number n = parse_float(tok, v);
+    if (n == Number::kOutOfRange) fail(element, "number \"" + excerpt(tok) + "\" is out of float range");
+    if (n == Number::kNotANumber) fail(element, "\"" + excerpt(tok) + "\" is not a number");
+    if (!std::isfinite(v)) fail(element, "non-finite number \"" + excerpt(tok) + "\"");
     out.push_back(v);
   });
   return out;
@@ -144,9 +160,11 @@ std::vector<uint32_t> ColladaDocument::indices(pugi::xml_node element, uint64_t 
   for_each_token(element.child_value(), [&](std::string_view tok) {
     uint64_t v = 0;
     auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (!tok.empty() && tok.front() == '-') fail(element, std::string("negative ") + what + " \"" + shorten(tok) + "\"");
+    if (!tok.empty() && tok.front() == '-') fail(element, std::string("negative ") + what + " \"" + excerpt(tok) + "\"");
+    if (ec == std::errc::result_out_of_range && end == tok.data() + tok.size())
+      fail(element, std::string(what) + " \"" + excerpt(tok) + "\" is out of range");
     if (ec != std::errc() || end != tok.data() + tok.size())
-      fail(element, "\"" + shorten(tok) + "\" is not a non-negative integer");
+      fail(element, "\"" + excerpt(tok) + "\" is not a non-negative integer");
     if (v >= limit)
       fail(element, std::string(what) + " " + std::to_string(v) + " is out of range (" + std::to_string(limit) +
                         " available)");
@@ -162,9 +180,11 @@ uint64_t ColladaDocument::count_attribute(pugi::xml_node element, const char* na
   std::string_view s = a.value();
   uint64_t v = 0;
   auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec == std::errc::result_out_of_range && end == s.data() + s.size())
+    fail(element, std::string(name) + "=\"" + excerpt(s) + "\" is larger than the data it describes");
   if (ec != std::errc() || end != s.data() + s.size() || s.empty())
-    fail(element, std::string(name) + "=\"" + shorten(s) + "\" is not a non-negative integer");
-  if (v > limit) fail(element, std::string(name) + "=\"" + shorten(s) + "\" is larger than the data it describes");
+    fail(element, std::string(name) + "=\"" + excerpt(s) + "\" is not a non-negative integer");
+  if (v > limit) fail(element, std::string(name) + "=\"" + excerpt(s) + "\" is larger than the data it describes");
   return v;
 }
 

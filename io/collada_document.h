@@ -3,15 +3,18 @@
 // line and the element. Every reader in io/collada_*.cpp works through it.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <pugixml.hpp>
 
 #include "kernels/vec3.h"
+#include "scene_error.h"
 
 namespace pt {
 
@@ -31,8 +34,12 @@ class ColladaDocument {
   pugi::xml_node find(std::string_view url) const;
 
   [[noreturn]] void fail(pugi::xml_node where, const std::string& what) const;
+  /// Records a one-line warning; repeats of the same line (the same element
+  /// reached through several instances) are dropped, and after kMaxWarnings
+  /// distinct lines the rest are only counted.
   void warn(pugi::xml_node where, const std::string& what);
-  const std::vector<std::string>& warnings() const { return warnings_; }
+  /// The warnings, plus one line saying how many were not kept, if any.
+  std::vector<std::string> warnings() const;
 
   /// All numbers in the element's text; every one must be finite.
   std::vector<float> floats(pugi::xml_node element) const;
@@ -60,6 +67,19 @@ class ColladaDocument {
   std::vector<size_t> line_starts_;
   std::unordered_map<std::string_view, pugi::xml_node> ids_;
   std::vector<std::string> warnings_;
+  std::unordered_set<std::string> warned_;
+  size_t warnings_dropped_ = 0;
 };
+
+/// Largest magnitude a world-space coordinate may have: products of two
+/// coordinates (intersection tests, BVH surface areas) then stay far below
+/// the float range.
+constexpr float kMaxCoordinate = 1e15f;
+constexpr size_t kMaxWarnings = 100;
+
+/// Finite and within +-kMaxCoordinate on every axis.
+inline bool within_coordinate_limit(float3 p) {
+  return std::fabs(p.x) <= kMaxCoordinate && std::fabs(p.y) <= kMaxCoordinate && std::fabs(p.z) <= kMaxCoordinate;
+}
 
 }  // namespace pt

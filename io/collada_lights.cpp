@@ -30,8 +30,11 @@ void add_area_light(ColladaDocument& doc, pugi::xml_node area, const Mat4& world
   float3 dir = world.transform_vector({0, 0, -1});
   l.area = length(cross(l.dim_x, l.dim_y));
   float dir_len = length(dir);
-  if (!(l.area > 0.0f) || !std::isfinite(l.area) || !(dir_len > 0.0f))
+  if (!(l.area > 0.0f) || !std::isfinite(l.area) || !(dir_len > 0.0f) || !std::isfinite(dir_len))
     doc.fail(area, "area light has zero area or a degenerate transform");
+  float3 half_diagonal = abs(l.dim_x * 0.5f) + abs(l.dim_y * 0.5f);
+  if (!within_coordinate_limit(l.position + half_diagonal) || !within_coordinate_limit(l.position - half_diagonal))
+    doc.fail(area, "area light lies beyond the coordinate limit 1e15");
   l.direction = dir / dir_len;
   scene.area_lights.push_back(l);
 }
@@ -45,11 +48,13 @@ void add_light(ColladaDocument& doc, pugi::xml_node light, const Mat4& world, Sc
   pugi::xml_node kind = common.first_child();
   std::string_view type = kind ? kind.name() : "";
   if (type == "point") {
-    scene.point_lights.push_back({world.transform_point({0, 0, 0}), read_light_color(doc, kind)});
+    float3 position = world.transform_point({0, 0, 0});
+    if (!within_coordinate_limit(position)) doc.fail(kind, "point light lies beyond the coordinate limit 1e15");
+    scene.point_lights.push_back({position, read_light_color(doc, kind)});
   } else if (type == "directional") {
     float3 to_light = world.transform_vector({0, 0, 1});
     float len = length(to_light);
-    if (!(len > 0.0f)) doc.fail(kind, "directional light has a degenerate transform");
+    if (!(len > 0.0f) || !std::isfinite(len)) doc.fail(kind, "directional light has a degenerate transform");
     scene.directional_lights.push_back({to_light / len, read_light_color(doc, kind)});
   } else if (type == "ambient") {
     float3 c = read_light_color(doc, kind);
@@ -57,7 +62,7 @@ void add_light(ColladaDocument& doc, pugi::xml_node light, const Mat4& world, Sc
   } else if (type == "spot") {
     doc.warn(light, "spot lights are not supported; skipped");
   } else {
-    doc.warn(light, "unknown light type" + (type.empty() ? std::string() : " <" + std::string(type) + ">") +
+    doc.warn(light, "unknown light type" + (type.empty() ? std::string() : " <" + excerpt(type) + ">") +
                         "; skipped");
   }
 }

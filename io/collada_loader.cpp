@@ -12,6 +12,7 @@
 
 #include "collada_camera.h"
 #include "collada_document.h"
+#include "collada_expansion.h"
 #include "collada_lights.h"
 #include "collada_materials.h"
 #include "collada_mesh.h"
@@ -21,16 +22,17 @@
 namespace pt {
 namespace {
 
-constexpr int kMaxNodeDepth = 256;
 constexpr uint64_t kMaxFileBytes = uint64_t(1) << 31;
 
 class SceneReader {
  public:
-  SceneReader(ColladaDocument& doc, Scene& scene) : doc_(doc), scene_(scene), materials_(doc, scene) {}
+  SceneReader(ColladaDocument& doc, Scene& scene, const LoadLimits& limits)
+      : doc_(doc), scene_(scene), limits_(limits), materials_(doc, scene), meshes_(doc) {}
 
   void read() {
     pugi::xml_node visual = visual_scene();
     if (visual) {
+      check_scene_expansion(doc_, visual, meshes_, limits_);  // before anything is allocated by it
       Mat4 up = up_axis_transform();
       for (pugi::xml_node node : visual.children("node")) visit(node, up, 1);
     } else {
@@ -67,7 +69,7 @@ class SceneReader {
     } else if (axis == "X_UP") {  // (x, y, z) -> (y, x, -z)
       m.m = {{{0, 1, 0, 0}, {1, 0, 0, 0}, {0, 0, -1, 0}, {0, 0, 0, 1}}};
     } else {
-      if (axis != "Y_UP") doc_.warn(up, "unknown up axis \"" + std::string(axis) + "\"; using Y_UP");
+      if (axis != "Y_UP") doc_.warn(up, "unknown up axis \"" + excerpt(axis) + "\"; using Y_UP");
       m = Mat4::identity();
     }
     return m;
@@ -108,7 +110,8 @@ class SceneReader {
   }
 
   void visit(pugi::xml_node node, const Mat4& parent, int depth) {
-    if (depth > kMaxNodeDepth) doc_.fail(node, "nodes nest deeper than " + std::to_string(kMaxNodeDepth) + " levels");
+    // check_scene_expansion() has refused cycles and deep nesting; these guard the recursion regardless.
+    if (depth > limits_.max_node_depth) doc_.fail(node, "nodes nest deeper than the limit");
     if (!active_.insert(node.internal_object()).second) doc_.fail(node, "node instances itself (a cycle)");
     Mat4 world = parent * local_transform(node);
     for (pugi::xml_node child : node.children()) {
@@ -148,7 +151,7 @@ class SceneReader {
     if (symbol.empty()) return bound.size() == 1 ? materials_.get(bound.begin()->second) : materials_.fallback();
     pugi::xml_node direct = doc_.find(symbol);
     if (direct && std::string_view(direct.name()) == "material") return materials_.get(direct);
-    doc_.warn(inst, "material \"" + symbol + "\" is not bound; using grey");
+    doc_.warn(inst, "material \"" + excerpt(symbol) + "\" is not bound; using grey");
     return materials_.fallback();
   }
 
@@ -156,20 +159,19 @@ class SceneReader {
     pugi::xml_node geometry = doc_.resolve(inst, inst.attribute("url").value());
     auto bound = bindings(inst);
     if (pugi::xml_node mesh_node = geometry.child("mesh")) {
-      MeshData mesh = read_mesh(doc_, mesh_node);
+      const MeshData& mesh = meshes_.get(mesh_node);
+      uint64_t base = scene_.positions.size();
       std::vector<uint32_t> symbol_material(mesh.symbols.size());
       for (size_t i = 0; i < mesh.symbols.size(); ++i)
         symbol_material[i] = material_for_symbol(inst, mesh.symbols[i], bound);
-      for (float3& p : mesh.positions) {
-        p = world.transform_point(p);
-        if (!is_finite(p)) doc_.fail(inst, "transformed vertex position is not finite");
+      std::vector<float3> positions(mesh.positions.size());
+      for (size_t i = 0; i < positions.size(); ++i) {
+        positions[i] = world.transform_point(mesh.positions[i]);
+        if (!within_coordinate_limit(positions[i]))
+          doc_.fail(inst, "a transformed vertex position is not finite or exceeds the coordinate limit 1e15");
       }
-      std::vector<float3> normals = smooth_vertex_normals(mesh.positions, mesh.triangles);
-      uint64_t base = scene_.positions.size();
-      if (base + mesh.positions.size() >= (uint64_t(1) << 31) ||
-          scene_.triangles.size() + mesh.triangles.size() >= (uint64_t(1) << 31))
-        doc_.fail(inst, "the scene exceeds 2^31 vertices or triangles");
-      scene_.positions.insert(scene_.positions.end(), mesh.positions.begin(), mesh.positions.end());
+      std::vector<float3> normals = smooth_vertex_normals(positions, mesh.triangles);
+      scene_.positions.insert(scene_.positions.end(), positions.begin(), positions.end());
       scene_.normals.insert(scene_.normals.end(), normals.begin(), normals.end());
       for (size_t i = 0; i < mesh.triangles.size(); ++i) {
         TriangleIndices t = mesh.triangles[i];
@@ -181,8 +183,9 @@ class SceneReader {
       Sphere s;
       s.center = world.transform_point({0, 0, 0});
       s.radius = *radius * length(world.transform_vector({1, 0, 0}));
-      if (!(s.radius > 0.0f) || !std::isfinite(s.radius) || !is_finite(s.center))
-        doc_.fail(inst, "sphere transform gives a degenerate or non-finite sphere");
+      if (!(s.radius > 0.0f) || !within_coordinate_limit(s.center + float3(s.radius)) ||
+          !within_coordinate_limit(s.center - float3(s.radius)))
+        doc_.fail(inst, "sphere transform gives a degenerate sphere or one beyond the coordinate limit 1e15");
       // A sphere binds one material: the first <instance_material> in file order.
       pugi::xml_node first = inst.child("bind_material").child("technique_common").child("instance_material");
       s.material = first ? materials_.get(doc_.resolve(first, first.attribute("target").value()))
@@ -195,7 +198,9 @@ class SceneReader {
 
   ColladaDocument& doc_;
   Scene& scene_;
+  const LoadLimits& limits_;
   MaterialTable materials_;
+  MeshCache meshes_;
   std::unordered_set<const void*> active_;
   bool camera_found_ = false;
 };
@@ -205,6 +210,8 @@ std::string read_file_text(const std::filesystem::path& path) {
   auto status = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(status)) throw InputError(path.string() + ": no such file");
   if (std::filesystem::is_directory(status)) throw InputError(path.string() + ": is a directory, not a scene file");
+  // A FIFO would block the read forever and a device can be endless.
+  if (!std::filesystem::is_regular_file(status)) throw InputError(path.string() + ": is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot be opened for reading");
   in.seekg(0, std::ios::end);
@@ -219,20 +226,20 @@ std::string read_file_text(const std::filesystem::path& path) {
 
 }  // namespace
 
-LoadResult load_collada_string(std::string_view xml, const std::string& label) {
+LoadResult load_collada_string(std::string_view xml, const std::string& label, const LoadLimits& limits) {
   auto start = std::chrono::steady_clock::now();
   LoadResult r;
   ColladaDocument doc(label, std::string(xml));
   r.scene.name = label;
-  SceneReader(doc, r.scene).read();
+  SceneReader(doc, r.scene, limits).read();
   r.warnings = doc.warnings();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
 
-LoadResult load_collada_file(const std::filesystem::path& path) {
+LoadResult load_collada_file(const std::filesystem::path& path, const LoadLimits& limits) {
   auto start = std::chrono::steady_clock::now();
-  LoadResult r = load_collada_string(read_file_text(path), path.string());
+  LoadResult r = load_collada_string(read_file_text(path), path.string(), limits);
   r.scene.name = path.filename().string();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

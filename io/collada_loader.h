@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/load_limits.h"
 #include "kernels/scene.h"
 
 namespace pt {
@@ -18,11 +19,12 @@ struct LoadResult {
   double seconds = 0.0;
 };
 
-/// Throws InputError (one line: file, line, element, problem) on a bad file.
-LoadResult load_collada_file(const std::filesystem::path& path);
+/// Throws InputError (one line: file, line, element, problem) on a bad file,
+/// including one whose instancing expands beyond `limits`.
+LoadResult load_collada_file(const std::filesystem::path& path, const LoadLimits& limits = {});
 
 /// Same, from memory; `label` names the source in messages.
-LoadResult load_collada_string(std::string_view xml, const std::string& label);
+LoadResult load_collada_string(std::string_view xml, const std::string& label, const LoadLimits& limits = {});
 
 /// One line: triangles, spheres, lights by type, bounds, load time.
 std::string scene_summary(const LoadResult& r);

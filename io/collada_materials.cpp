@@ -56,7 +56,7 @@ Material MaterialTable::read(pugi::xml_node material) {
       if (m.emission.x < 0 || m.emission.y < 0 || m.emission.z < 0) doc_.fail(radiance, "negative radiance");
       m.albedo = float3(0.0f);
     } else if (pugi::xml_node other = cgl.first_child()) {
-      doc_.warn(material, std::string("CGL <") + other.name() +
+      doc_.warn(material, "CGL <" + excerpt(other.name()) +
                               "> material is not supported; rendered as Lambertian with its diffuse colour");
     }
   }

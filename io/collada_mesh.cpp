@@ -123,6 +123,7 @@ MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node) {
     }
     uint32_t symbol = static_cast<uint32_t>(mesh.symbols.size());
     mesh.symbols.emplace_back(prim.attribute("material").value());
+    if (!prim.child("p")) doc.fail(prim, "has no <p> index list");
     uint64_t count = doc.count_attribute(prim, "count", 0, kMaxCount);
     std::vector<uint32_t> sizes;
     if (is_triangles) {
@@ -144,6 +145,12 @@ MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node) {
     append_polygons(doc, prim, sizes, symbol, mesh.positions.size(), mesh);
   }
   return mesh;
+}
+
+const MeshData& MeshCache::get(pugi::xml_node mesh) {
+  auto it = meshes_.find(mesh.internal_object());
+  if (it == meshes_.end()) it = meshes_.emplace(mesh.internal_object(), read_mesh(doc_, mesh)).first;
+  return it->second;
 }
 
 std::optional<float> read_sphere_radius(ColladaDocument& doc, pugi::xml_node geometry) {

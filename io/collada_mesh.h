@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <pugixml.hpp>
@@ -23,6 +24,18 @@ struct MeshData {
 
 /// Reads `<mesh>`; throws InputError naming the offending element.
 MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh);
+
+/// Reads each <mesh> once, however often it is instanced.
+class MeshCache {
+ public:
+  explicit MeshCache(ColladaDocument& doc) : doc_(doc) {}
+  /// read_mesh(mesh), cached; the reference stays valid for the cache's life.
+  const MeshData& get(pugi::xml_node mesh);
+
+ private:
+  ColladaDocument& doc_;
+  std::unordered_map<const void*, MeshData> meshes_;
+};
 
 /// The radius of a CGL sphere geometry, or nullopt if `geometry` is not one.
 std::optional<float> read_sphere_radius(ColladaDocument& doc, pugi::xml_node geometry);

@@ -88,14 +88,19 @@ void write_variance_image(const std::filesystem::path& path, const Film& film) {
 }
 
 std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int& height) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path.string() + ": cannot open PFM");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open PFM");
   std::string magic;
   float scale = 0;
   in >> magic >> width >> height >> scale;
-  if (magic != "PF" || width <= 0 || height <= 0 || width > 65536 || height > 65536 || scale >= 0)
+  if (!in || magic != "PF" || width <= 0 || height <= 0 || width > 65536 || height > 65536 || !(scale < 0))
     throw InputError(path.string() + ": not a little-endian RGB PFM");
   in.get();
+  // The header must not make us allocate more than the file holds.
+  uint64_t data_bytes = std::filesystem::file_size(path, ec) - static_cast<uint64_t>(in.tellg());
+  if (ec || data_bytes < uint64_t(width) * height * 12) throw InputError(path.string() + ": PFM data is truncated");
   std::vector<float3> rgb(size_t(width) * height);
   for (int y = height - 1; y >= 0; --y)
     if (!in.read(reinterpret_cast<char*>(&rgb[size_t(y) * width]), std::streamsize(width) * 12))

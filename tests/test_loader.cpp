@@ -329,7 +329,7 @@ std::vector<Malformed> malformed_cases() {
       {"wrong_root", "<?xml version=\"1.0\"?><scene/>", "test.dae", "expected <COLLADA>"},
       {"missing_float_array", mesh_with("", kGoodPrim), "<source id=\"p\">", "no <float_array>"},
       {"missing_p", mesh_with(kGoodArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/>
-          </triangles>)"), "<triangles", "indices"},
+          </triangles>)"), "<triangles", "no <p>"},
       {"index_out_of_range", mesh_with(kGoodArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v"
           offset="0"/><p>0 1 3</p></triangles>)"), "<p>", "out of range"},
       {"negative_index", mesh_with(kGoodArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v"

@@ -1,175 +1,282 @@
-// parse_command_line on CLI11, with range checks on every value.
+// parse_command_line on CLI11. CLI11 only splits the command line: every
+// value is kept as text and converted by option_values.h, so each bad value
+// gets the same kind of one-line message (flag, meaning, accepted range, text
+// given); validate() then checks values against each other.
 #include "cli_options.h"
 
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
-#include <map>
+#include <limits>
+#include <type_traits>
 
 #include <CLI/CLI.hpp>
+
+#include "option_values.h"
 
 namespace pt::cli {
 namespace {
 
 constexpr int kMaxDimension = 16384;
 constexpr int64_t kMaxPixels = int64_t(1) << 27;
+constexpr std::array<const char*, 3> kEngines = {"reference", "wavefront", "megakernel"};  // order of Engine
+constexpr std::array<const char*, 3> kAccels = {"bvh4", "bvh2", "none"};                   // order of AccelChoice
+constexpr std::array<const char*, 4> kBounceModes = {"accumulate", "only-m", "direct", "indirect"};
+constexpr std::array<const char*, 4> kDirectModes = {"light", "hemisphere", "cosine", "mis"};  // DirectLighting
+constexpr std::array<const char*, 2> kSamplers = {"independent", "sobol"};                      // PixelSampler
+constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};                  // RouletteMode
 
-/// Returns an error message, or empty if the options are consistent.
+/// Every valued flag as typed; converted after CLI11 has split the line.
+struct RawValues {
+  std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
+  std::string engine, bvh, bounces, direct, sampler, rr_mode;
+  std::vector<std::string> resolution, adaptive, region;
+  bool hemisphere = false, normals = false, cs184 = false;
+};
+
+/// Converts the raw values that were given into `o`, keeping the first error.
+class Converter {
+ public:
+  Converter(const CLI::App& app, Options& o) : app_(app), o_(o) {}
+
+  template <class T>
+  void integer(const char* flag, const char* what, const std::string& text, int64_t lo, int64_t hi, T& out) {
+    int64_t v = 0;
+    if (error.empty() && app_.count(flag) > 0 && (error = parse_integer(flag, what, text, lo, hi, v)).empty())
+      out = static_cast<T>(v);
+  }
+  template <class T>
+  void number(const char* flag, const char* what, const std::string& text, const char* range, bool (*accept)(double),
+              T& out) {
+    double v = 0.0;
+    if (error.empty() && app_.count(flag) > 0 && (error = parse_number(flag, what, text, range, accept, v)).empty())
+      out = static_cast<T>(v);
+  }
+  template <class E, size_t N>
+  void choice(const char* flag, const char* what, const std::string& text, const std::array<const char*, N>& names,
+              E& out) {
+    size_t i = 0;
+    if (error.empty() && app_.count(flag) > 0 && (error = parse_choice(flag, what, text, names, i)).empty())
+      out = static_cast<E>(i);
+  }
+
+  void convert(const RawValues& raw);
+  std::string error;
+
+ private:
+  const CLI::App& app_;
+  Options& o_;
+};
+
+void Converter::convert(const RawValues& raw) {
+  RenderSettings& s = o_.settings;
+  integer("-s", "samples per pixel", raw.samples, 1, 1 << 24, s.samples_per_pixel);
+  integer("-l", "light samples", raw.light_samples, 1, 4096, s.light_samples);
+  integer("-t", "thread count", raw.threads, 1, 1024, s.threads);
+  integer("-m", "maximum depth", raw.max_depth, 0, 1024, s.max_depth);
+  integer("-r", "width", raw.resolution.empty() ? "" : raw.resolution[0], 1, kMaxDimension, s.width);
+  integer("-r", "height", raw.resolution.empty() ? "" : raw.resolution[1], 1, kMaxDimension, s.height);
+  integer("-a", "batch size", raw.adaptive.empty() ? "" : raw.adaptive[0], 1, 1 << 24, s.adaptive_batch);
+  number("-a", "tolerance", raw.adaptive.empty() ? "" : raw.adaptive[1],
+         "a number >= 0 (0 turns adaptive sampling off)",
+         [](double v) { return v >= 0.0 && v <= std::numeric_limits<float>::max(); }, s.adaptive_tolerance);
+  if (app_.count("-p") > 0) {
+    Region r;
+    const char* names[4] = {"region x", "region y", "region width", "region height"};
+    int* fields[4] = {&r.x, &r.y, &r.width, &r.height};
+    for (int i = 0; i < 4; ++i) integer("-p", names[i], raw.region[i], i < 2 ? 0 : 1, kMaxDimension, *fields[i]);
+    s.region = r;
+  }
+  number("--rr", "continuation probability", raw.rr, "a number in (0, 1]",
+         [](double v) { return v > 0.0 && v <= 1.0; }, s.rr_continue);
+  integer("--seed", "seed", raw.seed, 0, std::numeric_limits<uint32_t>::max(), s.seed);
+  integer("--leaf-size", "leaf size", raw.leaf_size, 1, 64, o_.max_leaf_size);
+  number("--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
+         [](double v) { return v > 0.0; }, o_.checkpoint_every);
+  choice("--engine", "engine", raw.engine, kEngines, o_.engine);
+  choice("--bvh", "acceleration structure", raw.bvh, kAccels, o_.accel);
+  choice("--bounces", "bounce mode", raw.bounces, kBounceModes, s.bounces);
+  choice("--direct", "direct light estimator", raw.direct, kDirectModes, s.direct);
+  choice("--sampler", "sampler", raw.sampler, kSamplers, s.sampler);
+  choice("--rr-mode", "Russian roulette mode", raw.rr_mode, kRouletteModes, s.roulette);
+  if (raw.hemisphere) {
+    if (error.empty() && app_.count("--direct") > 0 && s.direct != DirectLighting::kHemisphere)
+      error = "-H and --direct " + raw.direct + " contradict each other";
+    s.direct = DirectLighting::kHemisphere;
+  }
+}
+
+/// Returns an error message, or empty if the converted options are consistent.
 std::string validate(const Options& o) {
   const RenderSettings& s = o.settings;
-  if (s.samples_per_pixel < 1 || s.samples_per_pixel > (1 << 24)) return "-s: samples per pixel must be 1..16777216";
-  if (s.light_samples < 1 || s.light_samples > 4096) return "-l: light samples must be 1..4096";
-  if (s.threads < 1 || s.threads > 1024) return "-t: threads must be 1..1024";
-  if (s.max_depth < 0 || s.max_depth > 1024) return "-m: maximum depth must be 0..1024";
-  if (s.width < 1 || s.height < 1 || s.width > kMaxDimension || s.height > kMaxDimension ||
-      int64_t(s.width) * s.height > kMaxPixels)
-    return "-r: resolution must be 1..16384 on each side and at most 2^27 pixels";
-  if (s.adaptive_batch < 1) return "-a: batch size must be at least 1";
-  if (!(s.adaptive_tolerance >= 0.0f) || !std::isfinite(s.adaptive_tolerance))
-    return "-a: tolerance must be a finite number >= 0 (0 turns adaptive sampling off)";
-  if (!(s.rr_continue > 0.0f && s.rr_continue <= 1.0f)) return "--rr: continuation probability must be in (0, 1]";
+  if (int64_t(s.width) * s.height > kMaxPixels)
+    return "-r: " + std::to_string(s.width) + " x " + std::to_string(s.height) + " is more than " +
+           std::to_string(kMaxPixels) + " pixels";
   if (s.region) {
     const Region& r = *s.region;
-    if (r.width < 1 || r.height < 1 || r.x < 0 || r.y < 0 || int64_t(r.x) + r.width > s.width ||
-        int64_t(r.y) + r.height > s.height)
+    if (int64_t(r.x) + r.width > s.width || int64_t(r.y) + r.height > s.height)
       return "-p: region " + std::to_string(r.x) + " " + std::to_string(r.y) + " " + std::to_string(r.width) + " " +
              std::to_string(r.height) + " is not inside the " + std::to_string(s.width) + "x" +
              std::to_string(s.height) + " image";
   }
-  if (o.max_leaf_size < 1 || o.max_leaf_size > 64) return "--leaf-size must be 1..64";
-  if (!(o.checkpoint_every > 0.0) || !std::isfinite(o.checkpoint_every))
-    return "--checkpoint-every must be a positive number of seconds";
-  if (o.reference_image.empty() != o.convergence_csv.empty())
-    return "--reference and --convergence-csv go together";
+  std::error_code ec;
+  if (!o.output_path.empty() && !o.scene_path.empty() && std::filesystem::equivalent(o.output_path, o.scene_path, ec))
+    return "-f: the output " + o.output_path + " would overwrite the scene file";
+  if (o.reference_image.empty() != o.convergence_csv.empty()) return "--reference and --convergence-csv go together";
+  if (o.label.empty() || o.label.find_first_of(",\"\n\r") != std::string::npos)
+    return "--label: must be non-empty without commas, quotes or line breaks (it is a CSV field)";
   if (!o.checkpoint_file.empty() && o.engine == Engine::kReference)
     return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
   return {};
 }
 
+/// Whether `token` is one of this program's flags ("-q", "--output", "--rr=0.5").
+bool is_flag(const CLI::App& app, std::string_view token) {
+  if (token.size() < 2 || token[0] != '-') return false;
+  return app.get_option_no_throw(std::string(token.substr(0, token.find('=')))) != nullptr;
+}
+
+/// What the values of a multi-valued flag are, for messages.
+std::string value_names(const CLI::Option& opt) {
+  if (opt.check_sname("r")) return "W H";
+  if (opt.check_sname("a")) return "BATCH TOL";
+  if (opt.check_sname("p")) return "X Y DX DY";
+  return "values";
+}
+
+/// CLI11 takes the token after a valued flag as its value even when that
+/// token is another flag ("-f -q" would write a file named "-q"): report such
+/// a missing value, and too few values for -r, -a and -p, before CLI11 parses.
+std::string check_value_counts(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (!is_flag(app, arg) || arg.find('=') != std::string_view::npos) continue;
+    const CLI::Option* opt = app.get_option_no_throw(std::string(arg));
+    if (opt->get_items_expected_max() == 0) continue;  // a flag without values
+    int need = opt->get_items_expected_min();
+    for (int k = 1; k <= need; ++k) {
+      if (i + k < argc && !is_flag(app, argv[i + k])) continue;
+      std::string next = i + k < argc ? std::string(" before ") + argv[i + k] : "";
+      if (need == 1) return std::string(arg) + ": missing value" + next;
+      return std::string(arg) + ": needs " + std::to_string(need) + " values (" + value_names(*opt) + "), got " +
+             std::to_string(k - 1) + next;
+    }
+    i += need;
+  }
+  return {};
+}
+
+/// CLI11's message on one line.
+std::string parse_error_line(const CLI::ParseError& e) {
+  std::string msg = e.what();
+  for (char& c : msg)
+    if (c == '\n' || c == '\r') c = ' ';
+  return msg + " (see --help)";
+}
+
 }  // namespace
 
-const char* engine_name(Engine e) {
-  switch (e) {
-    case Engine::kReference: return "reference";
-    case Engine::kWavefront: return "wavefront";
-    case Engine::kMegakernel: return "megakernel";
-  }
-  return "?";
+const char* engine_name(Engine e) { return kEngines[static_cast<size_t>(e)]; }
+
+const char* accel_name(AccelChoice a) { return kAccels[static_cast<size_t>(a)]; }
+
+namespace {
+
+/// Declares every flag; values land in `raw` as text, paths and switches in `o`.
+void add_options(CLI::App& app, Options& o, RawValues& raw) {
+  app.get_formatter()->column_width(34);
+  auto integer = [&](const char* names, std::string& text, const char* help) {
+    app.add_option(names, text, help)->type_name("INT");
+  };
+  auto path = [&](const char* names, std::string& text, const char* help) {
+    app.add_option(names, text, help)->type_name("FILE");
+  };
+  path("scene", o.scene_path, "COLLADA scene file (.dae)");
+  integer("-s,--samples", raw.samples, "Camera rays per pixel (maximum, with adaptive sampling); 1");
+  integer("-l,--light-samples", raw.light_samples, "Samples per area light (and sky) per shading point; 1");
+  integer("-t,--threads", raw.threads, "Worker threads; 1");
+  integer("-m,--max-depth", raw.max_depth, "Maximum ray depth (bounces); 1");
+  app.add_option("-r,--resolution", raw.resolution, "Output size W H; 800 600")->expected(2)->type_name("INT");
+  path("-f,--output", o.output_path, "Output image (.png, or .pfm for linear float)");
+  app.add_option("-a,--adaptive", raw.adaptive, "Adaptive sampling BATCH TOL (TOL 0 turns it off); 32 0.05")
+      ->expected(2)
+      ->type_name("NUMBER");
+  app.add_flag("-H,--hemisphere", raw.hemisphere, "Uniform hemisphere sampling for direct light");
+  path("-c,--camera", o.camera_file, "Camera settings file");
+  app.add_option("-p,--region", raw.region, "Render only the region X Y DX DY (top-left origin)")
+      ->expected(4)
+      ->type_name("INT");
+  app.add_option("--engine", raw.engine, "Render engine: reference, wavefront or megakernel; wavefront")
+      ->type_name("NAME");
+  app.add_option("--bvh", raw.bvh, "Acceleration structure: bvh4, bvh2 (midpoint split) or none (brute force); bvh4")
+      ->type_name("NAME");
+  integer("--leaf-size", raw.leaf_size, "Maximum primitives per leaf of the bvh2 build; 4");
+  integer("--seed", raw.seed, "Random seed; 0");
+  app.add_option("--rr", raw.rr, "Russian roulette continuation probability (--rr-mode fixed); 0.65")
+      ->type_name("NUMBER");
+  app.add_option("--rr-mode", raw.rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))")
+      ->type_name("NAME");
+  app.add_option("--direct", raw.direct,
+                 "Direct light: light (importance sampling), hemisphere (= -H), cosine, or mis (lights + BSDF)")
+      ->type_name("NAME");
+  app.add_option("--sampler", raw.sampler, "Sample source: independent or sobol (Owen-scrambled)")->type_name("NAME");
+  app.add_option("--bounces", raw.bounces, "accumulate, only-m (only the m-th bounce), direct or indirect")
+      ->type_name("NAME");
+  app.add_flag("--normals", raw.normals, "Normal shading instead of path tracing");
+  app.add_flag("--cs184-compat", raw.cs184,
+               "Reproduce the course renderer's quirks: area-light glow, invisible sky, 800x600 framing");
+  app.add_flag("--cs184-framing", o.cs184_framing, "Crop of the 800x600 view, as the course renderer frames -r");
+  path("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
+  path("--checkpoint", o.checkpoint_file,
+       "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
+  app.add_option("--checkpoint-every", raw.checkpoint_every, "Seconds between checkpoint saves; 60")
+      ->type_name("NUMBER");
+  path("--variance", o.variance_file, "Also write each pixel's variance of its mean (grey PFM)");
+  path("--reference", o.reference_image, "Converged reference image (PFM) for --convergence-csv");
+  path("--convergence-csv", o.convergence_csv,
+       "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
+  app.add_option("--label", o.label, "Method name written in the convergence CSV")->type_name("TEXT");
+  app.add_flag("--stats", o.stats, "Print per-stage statistics");
+  app.add_flag("--no-packets", o.no_packets, "Wavefront: trace every ray on its own (no SIMD packets)");
+  app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
 }
 
-const char* accel_name(AccelChoice a) {
-  switch (a) {
-    case AccelChoice::kBvh4: return "bvh4";
-    case AccelChoice::kBvh2: return "bvh2";
-    case AccelChoice::kNone: return "none";
-  }
-  return "?";
-}
+}  // namespace
 
 ParseResult parse_command_line(int argc, char** argv) {
   Options o;
   RenderSettings& s = o.settings;
+  RawValues raw;
   CLI::App app{"Path tracer for CS184 COLLADA scenes. Renders SCENE (default: the built-in Cornell box)."};
-  app.get_formatter()->column_width(34);
+  add_options(app, o, raw);
 
-  std::vector<int> resolution, region;
-  std::vector<std::string> adaptive;
-  std::string bounce_mode = "accumulate", direct_mode, sampler = "independent", rr_mode = "fixed";
-  bool hemisphere = false, normals = false, cs184 = false;
-
-  app.add_option("scene", o.scene_path, "COLLADA scene file (.dae)");
-  app.add_option("-s,--samples", s.samples_per_pixel, "Camera rays per pixel (maximum, with adaptive sampling)");
-  app.add_option("-l,--light-samples", s.light_samples, "Samples per area light (and sky) per shading point");
-  app.add_option("-t,--threads", s.threads, "Worker threads");
-  app.add_option("-m,--max-depth", s.max_depth, "Maximum ray depth (bounces)");
-  app.add_option("-r,--resolution", resolution, "Output size W H")->expected(2);
-  app.add_option("-f,--output", o.output_path, "Output image (.png, or .pfm for linear float)");
-  app.add_option("-a,--adaptive", adaptive, "Adaptive sampling BATCH TOL (TOL 0 turns it off)")->expected(2);
-  app.add_flag("-H,--hemisphere", hemisphere, "Uniform hemisphere sampling for direct light");
-  app.add_option("-c,--camera", o.camera_file, "Camera settings file");
-  app.add_option("-p,--region", region, "Render only the region X Y DX DY (top-left origin)")->expected(4);
-  app.add_option("--engine", o.engine, "Render engine")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, Engine>{{"reference", Engine::kReference},
-                                                                        {"wavefront", Engine::kWavefront},
-                                                                        {"megakernel", Engine::kMegakernel}}));
-  app.add_option("--bvh", o.accel,
-                 "Acceleration structure: bvh4 (4-wide SIMD BVH, default), bvh2 (midpoint split) or none (brute force)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, AccelChoice>{
-          {"bvh4", AccelChoice::kBvh4}, {"bvh2", AccelChoice::kBvh2}, {"none", AccelChoice::kNone}}));
-  app.add_option("--leaf-size", o.max_leaf_size, "Maximum primitives per leaf of the bvh2 build");
-  app.add_option("--seed", s.seed, "Random seed");
-  app.add_option("--rr", s.rr_continue, "Russian roulette continuation probability (--rr-mode fixed)");
-  app.add_option("--rr-mode", rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))")
-      ->check(CLI::IsMember({"fixed", "throughput"}));
-  app.add_option("--direct", direct_mode,
-                 "Direct light: light (importance sampling), hemisphere (= -H), cosine, or mis (lights + BSDF)")
-      ->check(CLI::IsMember({"light", "hemisphere", "cosine", "mis"}));
-  app.add_option("--sampler", sampler, "Sample source: independent or sobol (Owen-scrambled)")
-      ->check(CLI::IsMember({"independent", "sobol"}));
-  app.add_option("--bounces", bounce_mode, "accumulate, only-m (only the m-th bounce), direct or indirect")
-      ->check(CLI::IsMember({"accumulate", "only-m", "direct", "indirect"}));
-  app.add_flag("--normals", normals, "Normal shading instead of path tracing");
-  app.add_flag("--cs184-compat", cs184,
-               "Reproduce the course renderer's quirks: area-light glow, invisible sky, 800x600 framing");
-  app.add_flag("--cs184-framing", o.cs184_framing, "Crop of the 800x600 view, as the course renderer frames -r");
-  app.add_option("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
-  app.add_option("--checkpoint", o.checkpoint_file,
-                 "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
-  app.add_option("--checkpoint-every", o.checkpoint_every, "Seconds between checkpoint saves");
-  app.add_option("--variance", o.variance_file, "Also write each pixel's variance of its mean (grey PFM)");
-  app.add_option("--reference", o.reference_image, "Converged reference image (PFM) for --convergence-csv");
-  app.add_option("--convergence-csv", o.convergence_csv,
-                 "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
-  app.add_option("--label", o.label, "Method name written in the convergence CSV");
-  app.add_flag("--stats", o.stats, "Print per-stage statistics");
-  app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
-
+  if (std::string err = check_value_counts(app, argc, argv); !err.empty()) {
+    std::cerr << "error: " << err << "\n";
+    return {std::nullopt, 2};
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     std::cout << app.help();
     return {std::nullopt, 0};
   } catch (const CLI::ParseError& e) {
-    std::cerr << "error: " << e.what() << " (see --help)\n";
+    std::cerr << "error: " << parse_error_line(e) << "\n";
     return {std::nullopt, 2};
   }
 
-  if (!resolution.empty()) { s.width = resolution[0]; s.height = resolution[1]; }
-  if (!region.empty()) s.region = Region{region[0], region[1], region[2], region[3]};
-  if (!adaptive.empty()) {
-    try {
-      size_t used_batch = 0, used_tol = 0;
-      s.adaptive_batch = std::stoi(adaptive[0], &used_batch);
-      s.adaptive_tolerance = std::stof(adaptive[1], &used_tol);
-      if (used_batch != adaptive[0].size() || used_tol != adaptive[1].size()) throw std::invalid_argument("");
-    } catch (const std::exception&) {
-      std::cerr << "error: -a: expected an integer BATCH and a number TOL, got \"" << adaptive[0] << " " << adaptive[1]
-                << "\"\n";
-      return {std::nullopt, 2};
-    }
-  }
-  if (hemisphere && !direct_mode.empty() && direct_mode != "hemisphere") {
-    std::cerr << "error: -H and --direct " << direct_mode << " contradict each other\n";
+  Converter converter(app, o);
+  converter.convert(raw);
+  std::string err = converter.error.empty() ? validate(o) : converter.error;
+  if (!err.empty()) {
+    std::cerr << "error: " << err << "\n";
     return {std::nullopt, 2};
   }
-  s.direct = hemisphere || direct_mode == "hemisphere" ? DirectLighting::kHemisphere
-             : direct_mode == "cosine"                 ? DirectLighting::kCosine
-             : direct_mode == "mis"                    ? DirectLighting::kMis
-                                                       : DirectLighting::kLightSampling;
-  s.sampler = sampler == "sobol" ? PixelSampler::kSobol : PixelSampler::kIndependent;
-  s.roulette = rr_mode == "throughput" ? RouletteMode::kThroughput : RouletteMode::kFixed;
-  s.shading = normals ? ShadingMode::kNormals : ShadingMode::kPathTrace;
-  s.bounces = bounce_mode == "only-m"   ? BounceMode::kOnlyBounceM
-              : bounce_mode == "direct" ? BounceMode::kDirectOnly
-              : bounce_mode == "indirect" ? BounceMode::kIndirectOnly
-                                          : BounceMode::kAccumulate;
-  if (cs184) {
+  s.shading = raw.normals ? ShadingMode::kNormals : ShadingMode::kPathTrace;
+  if (raw.cs184) {
     s.cs184_light_quirk = true;
     s.cs184_invisible_sky = true;
     o.cs184_framing = true;
-  }
-  if (std::string err = validate(o); !err.empty()) {
-    std::cerr << "error: " << err << "\n";
-    return {std::nullopt, 2};
   }
   return {o, 0};
 }

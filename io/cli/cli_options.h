@@ -32,6 +32,7 @@ struct Options {
   bool cs184_framing = false;
   bool quiet = false;
   bool stats = false;
+  bool no_packets = false;           ///< --no-packets: wavefront traces rays one by one
 };
 
 /// Outcome of parsing: options to run with, or an exit code (0 after --help).

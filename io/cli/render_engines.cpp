@@ -34,7 +34,9 @@ RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camer
                                const RenderControl& control, const Tracer& tracer) {
   if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracer, control);
   wf::StageStats stages;
-  RenderOutput out = wf::render_wavefront(scene, camera, rs, tracer, {}, control, &stages);
+  wf::WavefrontOptions options;
+  options.packets = !o.no_packets;
+  RenderOutput out = wf::render_wavefront(scene, camera, rs, tracer, options, control, &stages);
   if (o.stats) print_stage_stats(stages, out.stats);
   return out;
 }

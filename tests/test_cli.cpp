@@ -1,0 +1,230 @@
+// The command line through the pathtracer binary: every bad flag value is one
+// exact error line and exit code 2, with no output file; a camera file that
+// does not parse and an output that cannot be written are one line and exit
+// code 1, reported before rendering starts; and valid values take effect.
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "io/image_output.h"
+#include "run_process.h"
+
+namespace pt {
+namespace {
+
+constexpr double kTimeLimit = 60.0;
+
+test::ProcessResult run(const test::ScratchDir& dir, std::vector<std::string> args) {
+  return test::run_process(PT_PATHTRACER_BINARY, args, dir.path(), kTimeLimit);
+}
+
+/// Exactly one stderr line equal to `expected`, exit `code`, nothing written to `dir`.
+void expect_refused(const test::ScratchDir& dir, const std::vector<std::string>& before, const test::ProcessResult& r,
+                    int code, const std::string& expected) {
+  ASSERT_FALSE(r.timed_out) << "still running after " << kTimeLimit << " s";
+  EXPECT_EQ(r.exit_code, code);
+  EXPECT_EQ(r.err, expected + "\n");
+  EXPECT_EQ(dir.entries(), before) << "an output or temporary file was left behind";
+}
+
+// ------------------------------------------------------------- flag values
+
+struct BadFlags {
+  std::vector<std::string> args;
+  std::string message;  ///< the whole stderr line
+};
+
+void PrintTo(const BadFlags& b, std::ostream* os) {
+  for (const std::string& a : b.args) *os << a << ' ';
+}
+
+const std::vector<BadFlags> kBadFlags = {
+    {{"-s", "-5"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"-5\""},
+    {{"-s", "0"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"0\""},
+    {{"-s", "abc"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"abc\""},
+    {{"-s", "1e3"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"1e3\""},
+    {{"-s", "0x10"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"0x10\""},
+    {{"-s", "99999999999"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"99999999999\""},
+    {{"--samples=-3"}, "error: -s: samples per pixel must be an integer from 1 to 16777216, got \"-3\""},
+    {{"-s"}, "error: -s: missing value"},
+    {{"-s", "-H"}, "error: -s: missing value before -H"},
+    {{"-l", "0"}, "error: -l: light samples must be an integer from 1 to 4096, got \"0\""},
+    {{"-t", "4x"}, "error: -t: thread count must be an integer from 1 to 1024, got \"4x\""},
+    {{"-m", "-1"}, "error: -m: maximum depth must be an integer from 0 to 1024, got \"-1\""},
+    {{"-r", "0", "600"}, "error: -r: width must be an integer from 1 to 16384, got \"0\""},
+    {{"-r", "800", "-600"}, "error: -r: height must be an integer from 1 to 16384, got \"-600\""},
+    {{"-r", "100000", "600"}, "error: -r: width must be an integer from 1 to 16384, got \"100000\""},
+    {{"-r", "16384", "16384"}, "error: -r: 16384 x 16384 is more than 134217728 pixels"},
+    {{"-r", "800"}, "error: -r: needs 2 values (W H), got 1"},
+    {{"-a", "32", "-0.1"},
+     "error: -a: tolerance must be a number >= 0 (0 turns adaptive sampling off), got \"-0.1\""},
+    {{"-a", "32", "nan"}, "error: -a: tolerance must be a number >= 0 (0 turns adaptive sampling off), got \"nan\""},
+    {{"-a", "0", "0.05"}, "error: -a: batch size must be an integer from 1 to 16777216, got \"0\""},
+    {{"-p", "0", "0", "900", "10"}, "error: -p: region 0 0 900 10 is not inside the 800x600 image"},
+    {{"-r", "100", "100", "-p", "50", "50", "51", "10"}, "error: -p: region 50 50 51 10 is not inside the 100x100 image"},
+    {{"-p", "-1", "0", "5", "5"}, "error: -p: region x must be an integer from 0 to 16384, got \"-1\""},
+    {{"-p", "0", "0", "0", "5"}, "error: -p: region width must be an integer from 1 to 16384, got \"0\""},
+    {{"-p", "1", "2", "3"}, "error: -p: needs 4 values (X Y DX DY), got 3"},
+    {{"--engine", "fast"}, "error: --engine: unknown engine \"fast\" (one of: reference, wavefront, megakernel)"},
+    {{"--engine", "2"}, "error: --engine: unknown engine \"2\" (one of: reference, wavefront, megakernel)"},
+    {{"--bvh", "bvh8"}, "error: --bvh: unknown acceleration structure \"bvh8\" (one of: bvh4, bvh2, none)"},
+    {{"--bounces", "all"},
+     "error: --bounces: unknown bounce mode \"all\" (one of: accumulate, only-m, direct, indirect)"},
+    {{"--rr", "0"}, "error: --rr: continuation probability must be a number in (0, 1], got \"0\""},
+    {{"--rr", "1.5"}, "error: --rr: continuation probability must be a number in (0, 1], got \"1.5\""},
+    {{"--seed", "-1"}, "error: --seed: seed must be an integer from 0 to 4294967295, got \"-1\""},
+    {{"--leaf-size", "0"}, "error: --leaf-size: leaf size must be an integer from 1 to 64, got \"0\""},
+    {{"--checkpoint-every", "0"},
+     "error: --checkpoint-every: checkpoint interval must be a positive number of seconds, got \"0\""},
+    {{"--bogus"}, "error: The following argument was not expected: --bogus (see --help)"},
+    {{"a.dae", "b.dae"}, "error: The following argument was not expected: b.dae (see --help)"},
+    {{"-c", "-q"}, "error: -c: missing value before -q"},
+};
+
+class BadFlagsTest : public ::testing::TestWithParam<BadFlags> {};
+
+TEST_P(BadFlagsTest, OneExactLineExitCode2NoOutput) {
+  test::ScratchDir dir;
+  std::vector<std::string> args = {"-q", "-f", "out.png"};
+  args.insert(args.end(), GetParam().args.begin(), GetParam().args.end());
+  expect_refused(dir, {}, run(dir, args), 2, GetParam().message);
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, BadFlagsTest, ::testing::ValuesIn(kBadFlags), [](const auto& info) {
+  std::string name = std::to_string(info.index);
+  for (const std::string& a : info.param.args) {
+    name += '_';
+    for (char c : a) name += std::isalnum(static_cast<unsigned char>(c)) ? c : (c == '-' ? 'm' : '_');
+  }
+  return name;
+});
+
+TEST(Flags, OutputThatIsTheSceneFileIsRefused) {
+  test::ScratchDir dir;
+  std::filesystem::copy_file(PT_DEFAULT_SCENE, dir / "scene.dae");
+  std::vector<std::string> before = dir.entries();
+  expect_refused(dir, before, run(dir, {"-q", "-f", "scene.dae", "scene.dae"}), 2,
+                 "error: -f: the output scene.dae would overwrite the scene file");
+}
+
+// ----------------------------------------------------------------- camera files
+
+/// A camera file that does parse: the one a render writes with --write-camera.
+std::string valid_camera_file(const test::ScratchDir& dir) {
+  test::ProcessResult r = run(dir, {"-q", "-r", "4", "3", "-f", "cam.png", "--write-camera", "cam.txt"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dir / "cam.txt");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* f : {"cam.png", "cam_rate.png", "cam.txt"}) std::filesystem::remove(dir / f);
+  return text;
+}
+
+TEST(CameraFile, ThatDoesNotParseIsOneLineNamingTheFileAndField) {
+  test::ScratchDir dir;
+  std::string good = valid_camera_file(dir);
+  ASSERT_FALSE(good.empty());
+  std::string unit_broken = good;
+  unit_broken.replace(unit_broken.find("\n1 0 0\n"), 7, "\n2 0 0\n");  // first c2w row: column x no longer unit
+  struct Case { std::string name, text, message; };
+  for (const Case& c : {Case{"garbage.txt", "hello world", "camera file field hFov is not a finite number: \"hello\""},
+                        Case{"short.txt", "50 35 1.33 0.01", "camera file ends before fClip"},
+                        Case{"nan.txt", "nan 35 1 0 1", "camera file field hFov is not a finite number: \"nan\""},
+                        Case{"hex.txt", "0x1p5 35 1 0 1", "camera file field hFov is not a finite number: \"0x1p5\""},
+                        Case{"fov.txt", "190" + good.substr(good.find(' ')),
+                             "camera file fields of view must be between 0 and 180 degrees"},
+                        Case{"c2w.txt", unit_broken, "camera file c2w columns must be unit vectors"}}) {
+    SCOPED_TRACE(c.name);
+    dir.write(c.name, c.text);
+    std::vector<std::string> before = dir.entries();
+    expect_refused(dir, before, run(dir, {"-q", "-r", "4", "3", "-f", "out.png", "-c", c.name}), 1,
+                   "error: " + c.name + ": " + c.message);
+  }
+  std::filesystem::create_directory(dir / "camdir");
+  std::vector<std::string> before = dir.entries();
+  expect_refused(dir, before, run(dir, {"-q", "-f", "out.png", "-c", "camdir"}), 1,
+                 "error: camdir: camera file is not a regular file");
+  expect_refused(dir, before, run(dir, {"-q", "-f", "out.png", "-c", "missing.txt"}), 1,
+                 "error: missing.txt: camera file does not exist");
+}
+
+TEST(CameraFile, WrittenByARenderIsAccepted) {
+  test::ScratchDir dir;
+  dir.write("cam.txt", valid_camera_file(dir));
+  test::ProcessResult r = run(dir, {"-q", "-r", "4", "3", "-f", "out.png", "-c", "cam.txt"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out.png"));
+}
+
+// ------------------------------------------------------------ unwritable outputs
+
+/// A render that would take hours (16M samples per pixel, adaptive sampling
+/// off): finishing within the time limit means it stopped before rendering.
+const std::vector<std::string> kEndlessRender = {"-q", "-s", "16777216", "-a", "32", "0", "-r", "800", "600"};
+
+TEST(UnwritableOutput, IsReportedBeforeRenderingStarts) {
+  test::ScratchDir dir;
+  dir.write("a_file", "x");
+  std::filesystem::create_directory(dir / "a_dir");
+  std::vector<std::string> before = dir.entries();
+  struct Case { std::vector<std::string> args; std::string message; };
+  for (const Case& c :
+       {Case{{"-f", "no/such/dir/out.png"}, "error: no/such/dir/out.png: cannot write output here: No such file or directory"},
+        Case{{"-f", "a_file/out.png"}, "error: a_file/out.png: cannot write output here: Not a directory"},
+        Case{{"-f", "a_dir"}, "error: a_dir: output path is a directory"},
+        Case{{"-f", "out.png", "--write-camera", "no/such/cam.txt"},
+             "error: no/such/cam.txt: cannot write output here: No such file or directory"}}) {
+    SCOPED_TRACE(c.message);
+    std::vector<std::string> args = kEndlessRender;
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    expect_refused(dir, before, run(dir, args), 1, c.message);
+  }
+}
+
+TEST(UnwritableOutput, ReadOnlyDirectory) {
+  if (geteuid() == 0) GTEST_SKIP() << "running as root: permissions do not stop writing";
+  test::ScratchDir dir;
+  std::filesystem::create_directory(dir / "ro");
+  std::filesystem::permissions(dir / "ro", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+  std::vector<std::string> args = kEndlessRender;
+  args.insert(args.end(), {"-f", "ro/out.png"});
+  expect_refused(dir, dir.entries(), run(dir, args), 1, "error: ro/out.png: cannot write output here: Permission denied");
+}
+
+TEST(ReferenceImage, WhoseHeaderClaimsMoreThanTheFileHoldsIsRefusedWithoutAllocatingIt) {
+  test::ScratchDir dir;
+  dir.write("huge.pfm", "PF\n65536 65536\n-1.0\n" + std::string(12, '\0'));  // would be 48 GiB of pixels
+  std::vector<std::string> before = dir.entries();
+  test::ProcessResult r = test::run_process(
+      PT_PATHTRACER_BINARY, {"-q", "-r", "4", "3", "--reference", "huge.pfm", "--convergence-csv", "out.csv"},
+      dir.path(), kTimeLimit, size_t(1) << 30);
+  expect_refused(dir, before, r, 1, "error: huge.pfm: PFM data is truncated");
+}
+
+// --------------------------------------------------------- valid values work
+
+TEST(Flags, ResolutionRegionAndDecimalSamplesTakeEffect) {
+  test::ScratchDir dir;
+  test::ProcessResult r = run(dir, {"-r", "8", "6", "-p", "2", "1", "3", "2", "-s", "016", "-a", "32", "0", "-f", "out.pfm"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("; 96 samples"), std::string::npos) << r.out;  // 3 x 2 pixels x 16 (decimal, not octal 14)
+  int w = 0, h = 0;
+  std::vector<float3> px = read_pfm(dir / "out.pfm", w, h);
+  ASSERT_EQ(w, 8);
+  ASSERT_EQ(h, 6);
+  bool lit_inside = false;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      bool inside = x >= 2 && x < 5 && y >= 1 && y < 3;
+      const float3& p = px[size_t(y) * w + x];
+      if (inside) lit_inside |= max_component(p) > 0.0f;
+      else EXPECT_EQ(p, float3(0.0f)) << "pixel " << x << "," << y << " is outside the region";
+    }
+  EXPECT_TRUE(lit_inside);
+}
+
+}  // namespace
+}  // namespace pt
