@@ -77,6 +77,29 @@ inline vuintK gather(const uint32_t* base, vintK index) {
   return xsimd::bitwise_cast<vuintK>(gather(reinterpret_cast<const int32_t*>(base), index));
 }
 
+/// Stores the lanes of v selected by `mask` contiguously at dst, lowest lane
+/// first (stream compaction). Writes K values: the caller has room for K at
+/// dst; only popcount(mask) of them are meaningful. Compresses in a register
+/// (the memory form of vcompressps is microcoded on AMD Zen 4 and 5).
+inline void store_compressed(float* dst, uint32_t mask, vfloatK v) {
+#if XSIMD_WITH_AVX512F
+  _mm512_storeu_ps(dst, _mm512_maskz_compress_ps(static_cast<__mmask16>(mask), v));
+#else
+  alignas(64) float lanes[kLanes];
+  v.store_aligned(lanes);
+  for (; mask; mask &= mask - 1) *dst++ = lanes[__builtin_ctz(mask)];
+#endif
+}
+inline void store_compressed(uint32_t* dst, uint32_t mask, vuintK v) {
+#if XSIMD_WITH_AVX512F
+  _mm512_storeu_si512(dst, _mm512_maskz_compress_epi32(static_cast<__mmask16>(mask), v));
+#else
+  alignas(64) uint32_t lanes[kLanes];
+  v.store_aligned(lanes);
+  for (; mask; mask &= mask - 1) *dst++ = lanes[__builtin_ctz(mask)];
+#endif
+}
+
 /// Lane indices 0, 1, ..., K-1.
 inline vintK lane_index() {
   alignas(64) int32_t idx[kLanes];

@@ -1,6 +1,8 @@
 // fetch_surfaces: gathers and the sphere patch.
 #include "fetch_surfaces.h"
 
+#include <algorithm>
+
 #include "kernels/surface.h"
 
 namespace pt::wf {
@@ -68,6 +70,24 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.material = gather(tris.material, tri);
   if (uint64_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
   return s;
+}
+
+void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, bool vertices) {
+  const TriangleArrays& tris = ctx.triangles;
+  const size_t end = std::min(hits.size, i0 + kLanes);
+  for (size_t i = i0; i < end; ++i) {
+    uint32_t prim = hits.prim[i];
+    if (prim == kInvalidId || (prim & Hit::kSphereBit)) continue;
+    const int32_t* t = tris.indices + 3 * size_t(prim);
+    if (!vertices) {
+      __builtin_prefetch(t);
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      __builtin_prefetch(tris.positions + 3 * size_t(t[k]));
+      __builtin_prefetch(tris.normals + 3 * size_t(t[k]));
+    }
+  }
 }
 
 }  // namespace pt::wf

@@ -23,4 +23,9 @@ struct SurfaceBatch {
 /// Surfaces of rays [i0, i0 + K) of `rays` with their `hits`.
 SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0);
 
+/// Starts loading what fetch_surfaces will read for hits [i0, i0 + K): the
+/// triangles' vertex indices if `vertices` is false, else their vertices
+/// (whose indices should have been prefetched a chunk earlier).
+void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, bool vertices);
+
 }  // namespace pt::wf

@@ -32,7 +32,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     RayQueue& rays = b.rays[cur];
     stats.count_alive(depth, rays.size);
     {
-      StageTimer t(stats, Stage::kIntersect);
+      StageTimer t(stats, depth == 0 ? Stage::kIntersectCamera : Stage::kIntersectBounce);
       intersect_closest(tracer, rays, b.hits, stats.primitive_tests, packets && depth == 0);
     }
     if (ctx.settings.shading == ShadingMode::kNormals) {
@@ -48,11 +48,12 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
       shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, b.continuations});
     }
     {
-      StageTimer t(stats, Stage::kShadow);
+      StageTimer t(stats, depth == 0 ? Stage::kShadowFirstHit : Stage::kShadowLater);
       trace_shadow_rays(tracer, b.shadows, b.paths, stats.primitive_tests, packets && depth == 0);
       trace_hemisphere_rays(tracer, ctx, b.hemisphere, b.paths, stats.primitive_tests);
     }
     stats.shadow_rays += b.shadows.size + b.hemisphere.size;
+    if (depth == 0) stats.first_hit_shadow_rays += b.shadows.size + b.hemisphere.size;
     {
       StageTimer t(stats, Stage::kRoulette);
       russian_roulette(ctx, depth + 1, b.continuations, b.paths, b.rays[1 - cur]);

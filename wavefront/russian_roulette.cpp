@@ -1,5 +1,7 @@
-// russian_roulette: SIMD decisions, scalar compaction.
+// russian_roulette: SIMD decisions, compressed stores for the compaction.
 #include "russian_roulette.h"
+
+#include <algorithm>
 
 #include "kernels/random.h"
 #include "kernels/sample_dimensions.h"
@@ -7,24 +9,43 @@
 #include "lane_output.h"
 
 namespace pt::wf {
+namespace {
+
+/// Appends candidates [i0, i0 + K) selected by `mask` to `next`.
+void append_survivors(const RayQueue& c, size_t i0, uint32_t mask, RayQueue& next) {
+  reserve_lanes(next);
+  size_t at = next.size;
+  auto copy = [&](const AlignedVector<float>& from, AlignedVector<float>& to) {
+    store_compressed(&to[at], mask, vfloatK::load_aligned(&from[i0]));
+  };
+  copy(c.org_x, next.org_x);
+  copy(c.org_y, next.org_y);
+  copy(c.org_z, next.org_z);
+  copy(c.tmin, next.tmin);
+  copy(c.dir_x, next.dir_x);
+  copy(c.dir_y, next.dir_y);
+  copy(c.dir_z, next.dir_z);
+  copy(c.tmax, next.tmax);
+  store_compressed(&next.path[at], mask, vuintK::load_aligned(&c.path[i0]));
+  next.size += static_cast<size_t>(__builtin_popcount(mask));
+}
+
+}  // namespace
 
 void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, PathState& paths,
                       RayQueue& next) {
   const size_t n = candidates.size;
   next.reserve(n);
   next.clear();
-  auto keep = [&](size_t i) {
-    next.push(candidates.get(i));
-  };
-  if (vertex < 2) {  // the first indirect bounce is always traced
-    for (size_t i = 0; i < n; ++i) keep(i);
-    return;
-  }
   const RenderSettings& rs = ctx.settings;
   const uint32_t dim_key = dimension_key(vertex, dims::kRoulette);
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
-    vuintK path = vuintK::load_aligned(&candidates.path[i0]);
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
+    if (vertex < 2) {  // the first indirect bounce is always traced
+      append_survivors(candidates, i0, lane_mask(valid), next);
+      continue;
+    }
+    vuintK path = vuintK::load_aligned(&candidates.path[i0]);
     vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(path), vintK(0));
     vuintK pixel_k = gather(paths.pixel_key.data(), safe_path);
     vuintK sample_k = gather(paths.sample_key.data(), safe_path);
@@ -32,16 +53,16 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
                                   xsimd::max(gather(paths.beta_g.data(), safe_path),
                                              gather(paths.beta_b.data(), safe_path)));
     vfloatK p = continuation_probability(rs, beta_max);
-    vboolK survive = valid && random_float<vuintK, vfloatK>(pixel_k, sample_k, dim_key) < p;
+    uint32_t survive = lane_mask(valid && random_float<vuintK, vfloatK>(pixel_k, sample_k, dim_key) < p);
     LaneFloats inv_p(vfloatK(1.0f) / p);
     LaneUints paths_of(path);
-    for_each_lane(lane_mask(survive), [&](size_t l) {
+    for_each_lane(survive, [&](size_t l) {
       uint32_t path_id = paths_of[l];
       paths.beta_r[path_id] *= inv_p[l];
       paths.beta_g[path_id] *= inv_p[l];
       paths.beta_b[path_id] *= inv_p[l];
-      keep(i0 + l);
     });
+    append_survivors(candidates, i0, survive, next);
   }
 }
 

@@ -72,7 +72,7 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
 /// Pushes the shadow ray of one light sample per lane where it can contribute.
 void push_light_sample(const Chunk& c, vboolK ok, const V3& wi, vfloatK tmax, const V3& weight, ShadowQueue& q) {
   ok = ok && dot(c.s.ns, wi) > vfloatK(0.0f) && dot(c.s.ng, wi) > vfloatK(0.0f);
-  uint64_t mask = lane_mask(ok);
+  uint32_t mask = lane_mask(ok);
   if (!mask) return;
   push_shadow_lanes(mask, q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, tmax, c.path, weight);
 }
@@ -157,7 +157,7 @@ void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
   V3 local = sample_cosine_hemisphere(u1, u2);
   V3 wi = to_world(c.s.ns.x, c.s.ns.y, c.s.ns.z, local.x, local.y, local.z);
   vboolK ok = c.reflects && dot(wi, c.s.ng) > vfloatK(0.0f);
-  uint64_t mask = lane_mask(ok);
+  uint32_t mask = lane_mask(ok);
   if (!mask) return;
   LaneFloats br(c.beta.x * c.albedo.x), bg(c.beta.y * c.albedo.y), bb(c.beta.z * c.albedo.z);
   LaneFloats pdf(local.z * vfloatK(kInvPi));
@@ -189,7 +189,10 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
   out.continuations.reserve(n);
   const MaterialArrays& mats = ctx.materials;
 
+  if (n > 0) prefetch_surfaces(ctx, hits, 0, false);
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
+    prefetch_surfaces(ctx, hits, i0 + 2 * kLanes, false);  // indices two chunks ahead,
+    prefetch_surfaces(ctx, hits, i0 + kLanes, true);       // vertices one chunk ahead
     SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
     vboolK emits = s.hit && as_float_mask(gather(mats.emits.data(), s.material) != vintK(0));
     uint64_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);

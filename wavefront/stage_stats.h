@@ -9,13 +9,29 @@
 
 namespace pt::wf {
 
-enum class Stage : int { kGenerate, kIntersect, kShade, kShadow, kRoulette, kAccumulate, kCount };
-inline constexpr const char* kStageNames[] = {"generate_camera_rays", "intersect_closest", "shade_surfaces",
-                                              "trace_shadow_rays", "russian_roulette", "accumulate"};
+/// Intersection stages are split by ray coherence: camera rays and shadow
+/// rays from the camera rays' hits (traced as packets) apart from bounce rays
+/// and later shadow rays (incoherent, one at a time).
+enum class Stage : int {
+  kGenerate,
+  kIntersectCamera,
+  kIntersectBounce,
+  kShade,
+  kShadowFirstHit,
+  kShadowLater,
+  kRoulette,
+  kAccumulate,
+  kCount
+};
+inline constexpr const char* kStageNames[] = {"generate_camera_rays",       "intersect_closest (camera)",
+                                              "intersect_closest (bounce)", "shade_surfaces",
+                                              "trace_shadow_rays (1st hit)", "trace_shadow_rays (later)",
+                                              "russian_roulette",           "accumulate"};
 
 struct StageStats {
   std::array<double, static_cast<int>(Stage::kCount)> seconds{};
   uint64_t camera_rays = 0, bounce_rays = 0, shadow_rays = 0;
+  uint64_t first_hit_shadow_rays = 0;  ///< shadow rays from the camera rays' hits
   uint64_t primitive_tests = 0;
   std::vector<uint64_t> paths_alive;  ///< index = depth (0 = camera rays)
 
@@ -26,6 +42,7 @@ struct StageStats {
   StageStats& operator+=(const StageStats& o) {
     for (size_t i = 0; i < seconds.size(); ++i) seconds[i] += o.seconds[i];
     camera_rays += o.camera_rays; bounce_rays += o.bounce_rays; shadow_rays += o.shadow_rays;
+    first_hit_shadow_rays += o.first_hit_shadow_rays;
     primitive_tests += o.primitive_tests;
     for (size_t d = 0; d < o.paths_alive.size(); ++d) count_alive(static_cast<uint32_t>(d), o.paths_alive[d]);
     return *this;

@@ -239,6 +239,8 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   app.add_option("--label", o.label, "Method name written in the convergence CSV")->type_name("TEXT");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("--no-packets", o.no_packets, "Wavefront: trace every ray on its own (no SIMD packets)");
+  app.add_flag("--count-tests", o.count_tests,
+               "Count primitive intersection tests per ray for the report (BVH4 engines run slower)");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
 }
 

@@ -33,6 +33,7 @@ struct Options {
   bool quiet = false;
   bool stats = false;
   bool no_packets = false;           ///< --no-packets: wavefront traces rays one by one
+  bool count_tests = false;          ///< --count-tests: count primitive tests (slower)
 };
 
 /// Outcome of parsing: options to run with, or an exit code (0 after --help).

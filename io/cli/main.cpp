@@ -78,12 +78,15 @@ void print_report(const cli::Options& o, const RenderOutput& out) {
   const RenderStats& st = out.stats;
   double mrays = st.seconds > 0 ? st.rays() / st.seconds / 1e6 : 0.0;
   std::printf("Rendered in %.3f s with the %s engine (%s); %llu rays traced (camera %llu, bounce %llu, "
-              "shadow %llu); %.2f million rays per second; %.2f intersection tests per ray; %llu samples",
+              "shadow %llu); %.2f million rays per second; ",
               st.seconds, cli::engine_name(o.engine), cli::accel_name(o.accel),
               static_cast<unsigned long long>(st.rays()), static_cast<unsigned long long>(st.camera_rays),
-              static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays,
-              st.rays() ? double(st.intersection_tests) / st.rays() : 0.0,
-              static_cast<unsigned long long>(st.samples));
+              static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays);
+  if (st.intersection_tests > 0 || st.rays() == 0)
+    std::printf("%.2f intersection tests per ray", st.rays() ? double(st.intersection_tests) / st.rays() : 0.0);
+  else
+    std::printf("intersection tests not counted (--count-tests)");
+  std::printf("; %llu samples", static_cast<unsigned long long>(st.samples));
   if (st.invalid_samples) std::printf("; %llu invalid samples discarded", static_cast<unsigned long long>(st.invalid_samples));
   std::printf("\n");
 }

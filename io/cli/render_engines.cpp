@@ -47,7 +47,7 @@ RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl&
   if (options_.engine == Engine::kReference)
     return reference::render_reference(scene_, *reference_accel_, camera_, rs, control);
   if (!bvh4_) return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh2Tracer{*reference_accel_});
-  if (options_.stats)  // count primitive tests only when asked: it costs time
+  if (options_.count_tests)  // count primitive tests only when asked: it costs time
     return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<true>{*bvh4_});
   return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<false>{*bvh4_});
 }
