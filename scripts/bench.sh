@@ -12,4 +12,4 @@ mkdir -p out
 repeat=(--benchmark_repetitions=5 --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
 for arg in "$@"; do [ "$arg" = "--quick" ] && repeat=(--benchmark_min_time=0.02); done
 ./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench.json --benchmark_out_format=json
-python3 scripts/bench_table.py out/bench.json | tee out/bench_table.md
+/usr/bin/python3 scripts/bench_table.py out/bench.json | tee out/bench_table.md
