@@ -2,6 +2,7 @@
 // pixel count, the PixelAccumulator array, and an FNV-1a checksum of all of it.
 #include "checkpoint.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -59,7 +60,7 @@ void save_checkpoint(const std::filesystem::path& path, const std::string& finge
 }
 
 std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, const std::string& fingerprint,
-                                            size_t pixel_count) {
+                                            size_t pixel_count, uint32_t max_samples) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return std::nullopt;
   if (!std::filesystem::is_regular_file(path, ec))  // a FIFO or device could block or never end
@@ -86,6 +87,13 @@ std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, c
     throw corrupt("pixel data does not match the image size");
   acc.pixels.resize(n);
   std::memcpy(acc.pixels.data(), rest.data(), rest.size());
+  if (acc.samples_done > max_samples) throw corrupt("more samples done than the render takes");
+  for (const PixelAccumulator& p : acc.pixels) {
+    bool finite = std::isfinite(p.sum_r) && std::isfinite(p.sum_g) && std::isfinite(p.sum_b) &&
+                  std::isfinite(p.moments.s1) && std::isfinite(p.moments.s2);
+    if (!finite || p.samples > max_samples || p.converged > 1 || p.moments.s2 < 0.0)
+      throw corrupt("pixel values that no render of these settings produces");
+  }
   return acc;
 }
 

@@ -22,8 +22,10 @@ std::string render_fingerprint(const std::string& engine, const Scene& scene, co
 void save_checkpoint(const std::filesystem::path& path, const std::string& fingerprint, const Accumulation& acc);
 
 /// nullopt if `path` does not exist. Throws InputError if it is corrupt, was
-/// written for a different render, or does not hold `pixel_count` pixels.
+/// written for a different render, does not hold `pixel_count` pixels, or
+/// holds values no render of at most `max_samples` samples per pixel makes
+/// (non-finite sums, more samples than that).
 std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, const std::string& fingerprint,
-                                            size_t pixel_count);
+                                            size_t pixel_count, uint32_t max_samples);
 
 }  // namespace pt

@@ -108,23 +108,24 @@ TEST(Checkpoint, RoundTripsAndRefusesADifferentRender) {
   std::filesystem::path path = std::filesystem::temp_directory_path() / "pt_test_checkpoint.bin";
   std::string fp = render_fingerprint("wavefront", f.scene, f.camera, f.rs);
   save_checkpoint(path, fp, acc);
-  std::optional<Accumulation> back = load_checkpoint(path, fp, acc.pixels.size());
+  std::optional<Accumulation> back = load_checkpoint(path, fp, acc.pixels.size(), 64);
   ASSERT_TRUE(back);
   EXPECT_EQ(back->samples_done, 8u);
   EXPECT_EQ(std::memcmp(back->pixels.data(), acc.pixels.data(), acc.pixels.size() * sizeof(PixelAccumulator)), 0);
 
   RenderSettings other = f.rs;
   other.seed = 99;
-  EXPECT_THROW(load_checkpoint(path, render_fingerprint("wavefront", f.scene, f.camera, other), acc.pixels.size()),
+  EXPECT_THROW(load_checkpoint(path, render_fingerprint("wavefront", f.scene, f.camera, other), acc.pixels.size(), 64),
                InputError);
+  EXPECT_THROW(load_checkpoint(path, fp, acc.pixels.size(), 4), InputError);  // more samples done than -s 4 takes
   {  // flip one byte: the checksum catches it
     std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
     io.seekp(100);
     io.put('\x7f');
   }
-  EXPECT_THROW(load_checkpoint(path, fp, acc.pixels.size()), InputError);
+  EXPECT_THROW(load_checkpoint(path, fp, acc.pixels.size(), 64), InputError);
   std::filesystem::remove(path);
-  EXPECT_FALSE(load_checkpoint(path, fp, acc.pixels.size()).has_value());
+  EXPECT_FALSE(load_checkpoint(path, fp, acc.pixels.size(), 64).has_value());
 }
 
 /// Runs the pathtracer with `args`; sends SIGINT after `interrupt_after` seconds if > 0.

@@ -128,7 +128,8 @@ int run(const cli::Options& o) {
     checkpoint.every = o.checkpoint_every;
     checkpoint.fingerprint = render_fingerprint(cli::engine_name(o.engine), scene, camera, rs);
     check_writable(checkpoint.path);
-    checkpoint.resumed = load_checkpoint(checkpoint.path, checkpoint.fingerprint, size_t(rs.width) * rs.height);
+    checkpoint.resumed = load_checkpoint(checkpoint.path, checkpoint.fingerprint, size_t(rs.width) * rs.height,
+                                         static_cast<uint32_t>(rs.samples_per_pixel));
     if (checkpoint.resumed && !o.quiet)
       std::printf("Resuming from %s (%u samples per pixel done)\n", checkpoint.path.c_str(),
                   checkpoint.resumed->samples_done);
