@@ -18,6 +18,7 @@ struct StageStats {
   uint64_t camera_rays = 0, bounce_rays = 0, shadow_rays = 0;
   uint64_t primitive_tests = 0;
   std::vector<uint64_t> paths_alive;  ///< index = depth (0 = camera rays)
+  size_t queue_bytes = 0;             ///< bytes the wave buffers held at the end (all threads)
 
   void count_alive(uint32_t depth, uint64_t n) {
     if (paths_alive.size() <= depth) paths_alive.resize(depth + 1, 0);
@@ -27,6 +28,7 @@ struct StageStats {
     for (size_t i = 0; i < seconds.size(); ++i) seconds[i] += o.seconds[i];
     camera_rays += o.camera_rays; bounce_rays += o.bounce_rays; shadow_rays += o.shadow_rays;
     primitive_tests += o.primitive_tests;
+    queue_bytes += o.queue_bytes;
     for (size_t d = 0; d < o.paths_alive.size(); ++d) count_alive(static_cast<uint32_t>(d), o.paths_alive[d]);
     return *this;
   }

@@ -120,6 +120,7 @@ ParseResult parse_command_line(int argc, char** argv) {
                  "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
   app.add_option("--label", o.label, "Method name written in the convergence CSV");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
+  app.add_flag("--memory", o.memory, "Print the bytes of every structure the render allocates and the peak RSS");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
 
   try {

@@ -32,6 +32,7 @@ struct Options {
   bool cs184_framing = false;
   bool quiet = false;
   bool stats = false;
+  bool memory = false;               ///< --memory: print bytes per structure and peak RSS
 };
 
 /// Outcome of parsing: options to run with, or an exit code (0 after --help).

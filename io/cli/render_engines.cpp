@@ -22,7 +22,8 @@ EngineRunner::EngineRunner(const Options& o, const Scene& scene, const Camera& c
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control) const {
+RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control, size_t* queue_bytes) const {
+  if (queue_bytes) *queue_bytes = 0;
   switch (options_.engine) {
     case Engine::kReference:
       return reference::render_reference(scene_, *bvh2_, camera_, rs, control);
@@ -30,6 +31,7 @@ RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl&
       wf::StageStats stages;
       RenderOutput out = wf::render_wavefront(scene_, camera_, rs, wf::Bvh2Tracer{*bvh2_}, {}, control, &stages);
       if (options_.stats) print_stage_stats(stages, out.stats);
+      if (queue_bytes) *queue_bytes = stages.queue_bytes;
       return out;
     }
     case Engine::kMegakernel:

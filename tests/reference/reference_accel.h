@@ -25,6 +25,10 @@ class ReferenceAccel {
 
   const Bvh2& bvh() const { return bvh_; }
   AccelMode mode() const { return mode_; }
+  /// Bytes the structure holds (BVH nodes and primitive order); 0 for brute force.
+  size_t bytes() const {
+    return bvh_.nodes.capacity() * sizeof(Bvh2Node) + bvh_.prim_order.capacity() * sizeof(uint32_t);
+  }
 
  private:
   /// Tests primitive `prim` (triangles first, then spheres); on a hit closer
