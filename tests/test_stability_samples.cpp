@@ -160,6 +160,27 @@ TEST(InvalidSamples, NoneFromDegenerateTrianglesOrGrazingRays) {
   expect_no_invalid_samples(scene, test::camera_grazing_floor(), 24, 24, 16, "grazing the floor");
 }
 
+// DISABLED until wavefront/wave_context.cpp sizes the hemisphere queue for
+// every hit-finding estimator: it uses hemisphere_sample_count() only for -H,
+// so --direct cosine with -l > 1 on a scene whose light count differs from its
+// sampled-light count (delta lights, or directional + sky) overflows the queue
+// (heap corruption; `pathtracer --engine wavefront --direct cosine -l 4` on
+// CBempty.dae aborts). Enable with the fix.
+TEST(InvalidSamples, DISABLED_CosineSamplingWithManyLightSamplesOnDeltaLights) {
+  Scene scene = test::floor_under_delta_lights(true, true);
+  for (const test::EngineUnderTest& engine : engines_under_test()) {
+    RenderSettings rs;
+    rs.width = rs.height = 16;
+    rs.samples_per_pixel = 4;
+    rs.max_depth = 3;
+    rs.light_samples = 4;
+    rs.adaptive_tolerance = 0.0f;
+    rs.direct = DirectLighting::kCosine;
+    RenderOutput out = engine.render(scene, test::camera_above_floor(), rs);
+    EXPECT_EQ(out.stats.invalid_samples, 0u) << engine.name;
+  }
+}
+
 TEST(InvalidSamples, NoneOnAnySharedScene) {
   PT_REQUIRE_SHARED_SCENES();
   for (const std::string& name : test::shared_scene_names()) {
