@@ -3,7 +3,8 @@
 # reuses) each scene's converged reference, runs every method of methods.txt in
 # convergence mode (error against a reference at 1, 2, 4, ... spp, with wall
 # time), draws one chart per scene with Debian's python3 + matplotlib and writes
-# the efficiency table. Full runs write docs/ and the README's tables; --quick
+# the efficiency table; full runs also write the memory table of every shared
+# scene. Full runs write docs/ and the README's tables; --quick
 # (small images, few samples: a smoke test) writes only build/convergence_quick/.
 #
 # Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
@@ -14,10 +15,11 @@ here=scripts/convergence
 
 quick=0
 scenes="CBspheres_lambertian CBbunny CBempty bunny"
+all_scenes=1   # the README's tables are only replaced by a run over every scene
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
-    --scenes) scenes=$2; shift ;;
+    --scenes) scenes=$2; all_scenes=0; shift ;;
     *) echo "usage: $0 [--quick] [--scenes \"NAME ...\"]" >&2; exit 2 ;;
   esac
   shift
@@ -77,6 +79,8 @@ for scene in $scenes; do
 done
 "${tables[@]}" > "$out/efficiency.md"
 cat "$out/efficiency.md"
-if [ "$quick" = 0 ]; then
+if [ "$quick" = 0 ] && [ "$all_scenes" = 1 ]; then
   "$python" "$here/update_readme.py" README.md efficiency "$out/efficiency.md"
+  "$python" "$here/memory_table.py" "$pathtracer" "$scene_dir" > "$out/memory.md"
+  "$python" "$here/update_readme.py" README.md memory "$out/memory.md"
 fi
