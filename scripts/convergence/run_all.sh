@@ -26,14 +26,13 @@ while [ $# -gt 0 ]; do
 done
 
 if [ "$quick" = 1 ]; then
-  width=80 height=60 max_spp=64 ref_spp=1024 out=build/convergence_quick
+  width=80 height=60 max_spp=64 ref_spp=1024 out=build/convergence_quick csv_dir=build/convergence_quick/csv
 else
-  width=160 height=120 max_spp=512 ref_spp=16384 out=docs
+  width=160 height=120 max_spp=512 ref_spp=16384 out=docs csv_dir=build/convergence/csv
 fi
 depth=5 threads=2
 scene_dir=../shared/scenes/cs184
 python=/usr/bin/python3   # Debian's interpreter, which has python3-matplotlib
-csv_dir=build/convergence$([ "$quick" = 1 ] && echo _quick)/csv
 mkdir -p "$out" "$csv_dir"
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
