@@ -1,10 +1,11 @@
 """Reading what the convergence runs produce: the pathtracer's PFM images
-(little-endian RGB, bottom row first), a reference's estimated noise from its
-variance image, and the combined per-scene CSV as one curve per method.
+(little-endian RGB, bottom row first), a reference's estimated noise, and the
+combined per-scene CSV as one curve per method.
 Shared by plot_convergence.py and efficiency_table.py."""
 
 import csv
 import math
+import os
 from collections import OrderedDict
 
 import numpy as np
@@ -28,10 +29,15 @@ def variance_path(reference_path):
 
 
 def reference_noise_rmse(reference_path):
-    """Estimated RMSE of the reference itself: the square root of the mean,
-    over pixels, of each pixel's variance of its mean illuminance (the
-    variance image). An estimate of the per-channel noise for near-grey
-    pixels; coloured walls make it approximate."""
+    """Estimated RMSE of the reference itself, over pixels and channels: from
+    the difference of its two halves (X.noise, written by
+    combine_reference.py) when present; otherwise the square root of the mean
+    of the variance image (each pixel's variance of its mean illuminance: an
+    approximation of the per-channel noise, and an overestimate for
+    stratified samplers)."""
+    noise_file = reference_path[: -len(".pfm")] + ".noise"
+    if os.path.exists(noise_file):
+        return float(open(noise_file).read())
     var = read_pfm(variance_path(reference_path))[:, :, 0].astype(np.float64)
     return math.sqrt(float(np.mean(var)))
 

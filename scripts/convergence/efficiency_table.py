@@ -90,8 +90,9 @@ def main():
     for m in methods:
         print(f"| {m} | " + " | ".join(format_seconds(*time_to_reach(curves[n][m], targets[n])) for n in names) + " |")
 
-    print(f"\nReferences: {args.reference_spp} spp of light sampling (wavefront engine, seed 1000003), "
-          "noise estimated from their variance images:\n")
+    print(f"\nReferences: {args.reference_spp} spp of light sampling in two halves (Owen-scrambled Sobol, "
+          "wavefront engine, seeds 1000003 and 1000004), averaged; noise = RMSE of the average, estimated as "
+          "rms(half1 - half2) / 2:\n")
     print("| | " + " | ".join(names) + " |\n|---|" + "---:|" * len(names))
     noise = {n: reference_noise_rmse(ref) for n, _, ref in scenes}
     lowest = {n: min(min(c.rmse) for c in curves[n].values()) for n in names}

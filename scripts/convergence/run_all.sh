@@ -26,9 +26,9 @@ while [ $# -gt 0 ]; do
 done
 
 if [ "$quick" = 1 ]; then
-  width=80 height=60 max_spp=64 ref_spp=1024 out=build/convergence_quick csv_dir=build/convergence_quick/csv
+  width=80 height=60 max_spp=64 ref_spp=2048 out=build/convergence_quick csv_dir=build/convergence_quick/csv
 else
-  width=160 height=120 max_spp=512 ref_spp=16384 out=docs csv_dir=build/convergence/csv
+  width=160 height=120 max_spp=512 ref_spp=32768 out=docs csv_dir=build/convergence/csv
 fi
 depth=5 threads=2
 scene_dir=../shared/scenes/cs184
