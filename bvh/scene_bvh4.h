@@ -64,6 +64,15 @@ class SceneBvh4 {
   void occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t> blocked) const;
 
   const Bvh4BuildStats& stats() const { return stats_; }
+  /// Bytes of nodes, triangle blocks and spheres: allocated, and of those in use.
+  size_t bytes() const {
+    return bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.blocks.capacity() * sizeof(TriangleBlock4) +
+           spheres_.capacity() * sizeof(SphereShape);
+  }
+  size_t used_bytes() const {
+    return bvh_.nodes.size() * sizeof(Bvh4Node) + bvh_.blocks.size() * sizeof(TriangleBlock4) +
+           spheres_.size() * sizeof(SphereShape);
+  }
   const Bvh4& bvh() const { return bvh_; }
 
  private:

@@ -80,7 +80,9 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
   close(out_pipe[0]);
   close(err_pipe[0]);
   int status = 0;
-  waitpid(pid, &status, 0);
+  struct rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  r.peak_rss_bytes = static_cast<size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }

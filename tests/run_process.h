@@ -3,6 +3,7 @@
 // so that "no output file was created" can be checked by listing it.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@ struct ProcessResult {
   int exit_code = -1;      ///< exit status, or 128 + signal number
   bool timed_out = false;  ///< killed after the time limit
   std::string out, err;    ///< everything written to stdout and stderr
+  size_t peak_rss_bytes = 0;  ///< the child's maximum resident set size (wait4)
 };
 
 /// Runs `program` with `args` in `cwd`, killing it after `timeout_seconds`.

@@ -45,6 +45,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
 
   StageStats all;
   for (const StageStats& s : stages) all += s;
+  for (const WaveBuffers& b : buffers) all.queue_bytes += b.bytes();
   out.stats.camera_rays = all.camera_rays;
   out.stats.bounce_rays = all.bounce_rays;
   out.stats.shadow_rays = all.shadow_rays;

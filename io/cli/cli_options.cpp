@@ -238,6 +238,7 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
        "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
   app.add_option("--label", o.label, "Method name written in the convergence CSV")->type_name("TEXT");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
+  app.add_flag("--memory", o.memory, "Print the bytes of every structure the render allocates and the peak RSS");
   app.add_flag("--no-packets", o.no_packets, "Wavefront: trace every ray on its own (no SIMD packets)");
   app.add_flag("--count-tests", o.count_tests,
                "Count primitive intersection tests per ray for the report (BVH4 engines run slower)");

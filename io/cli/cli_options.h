@@ -32,6 +32,7 @@ struct Options {
   bool cs184_framing = false;
   bool quiet = false;
   bool stats = false;
+  bool memory = false;               ///< --memory: print bytes per structure and peak RSS
   bool no_packets = false;           ///< --no-packets: wavefront traces rays one by one
   bool count_tests = false;          ///< --count-tests: count primitive tests (slower)
 };

@@ -18,6 +18,7 @@
 #include "io/image_output.h"
 #include "io/scene_error.h"
 #include "convergence_run.h"
+#include "memory_report.h"
 #include "progress_bar.h"
 #include "render_engines.h"
 
@@ -91,6 +92,18 @@ void print_report(const cli::Options& o, const RenderOutput& out) {
   std::printf("\n");
 }
 
+/// --memory: the structures' bytes, measured after the image is written.
+void print_memory(const cli::Options& o, const Scene& scene, const RenderOutput& out, const cli::EngineRunner& engine,
+                  size_t queue_bytes, const std::filesystem::path& output) {
+  cli::MemoryReport report;
+  cli::add_scene_memory(report, scene);
+  cli::EngineFootprint footprint{o.engine, cli::accel_name(o.accel), {engine.accel_bytes(), engine.accel_used_bytes()},
+                                 queue_bytes};
+  cli::add_render_memory(report, o.settings, scene, out, footprint, output);
+  report.peak_rss_bytes = cli::peak_resident_bytes();
+  std::printf("%s", cli::format_memory_report(report).c_str());
+}
+
 int run(const cli::Options& o) {
   std::filesystem::path scene_path = o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE) : std::filesystem::path(o.scene_path);
   LoadResult loaded = load_collada_file(scene_path);
@@ -139,7 +152,8 @@ int run(const cli::Options& o) {
   control.progress = [&bar](double f) { bar.update(f); };
   install_stop_handlers();
   cli::EngineRunner engine(o, scene, camera);
-  RenderOutput out = engine.render(rs, control);
+  size_t queue_bytes = 0;
+  RenderOutput out = engine.render(rs, control, &queue_bytes);
   bar.finish();
 
   if (out.cancelled) {
@@ -158,6 +172,7 @@ int run(const cli::Options& o) {
     print_report(o, out);
     std::printf("Wrote %s%s\n", output.c_str(), rs.adaptive() ? (" and " + rate_image_path(output).string()).c_str() : "");
   }
+  if (o.memory) print_memory(o, scene, out, engine, queue_bytes, output);
   return 0;
 }
 

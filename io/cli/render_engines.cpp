@@ -31,25 +31,28 @@ namespace {
 /// Runs a pass-based engine on `tracer`.
 template <class Tracer>
 RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camera& camera, const RenderSettings& rs,
-                               const RenderControl& control, const Tracer& tracer) {
+                               const RenderControl& control, const Tracer& tracer, size_t* queue_bytes) {
   if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracer, control);
   wf::StageStats stages;
   wf::WavefrontOptions options;
   options.packets = !o.no_packets;
   RenderOutput out = wf::render_wavefront(scene, camera, rs, tracer, options, control, &stages);
   if (o.stats) print_stage_stats(stages, out.stats);
+  if (queue_bytes) *queue_bytes = stages.queue_bytes;
   return out;
 }
 
 }  // namespace
 
-RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control) const {
+RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control, size_t* queue_bytes) const {
+  if (queue_bytes) *queue_bytes = 0;
   if (options_.engine == Engine::kReference)
     return reference::render_reference(scene_, *reference_accel_, camera_, rs, control);
-  if (!bvh4_) return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh2Tracer{*reference_accel_});
+  if (!bvh4_) return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh2Tracer{*reference_accel_},
+                                         queue_bytes);
   if (options_.count_tests)  // count primitive tests only when asked: it costs time
-    return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<true>{*bvh4_});
-  return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<false>{*bvh4_});
+    return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<true>{*bvh4_}, queue_bytes);
+  return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<false>{*bvh4_}, queue_bytes);
 }
 
 }  // namespace pt::cli

@@ -16,10 +16,16 @@ class EngineRunner {
   /// Builds the acceleration structure. Throws InputError for combinations that do not exist.
   EngineRunner(const Options& options, const Scene& scene, const Camera& camera);
 
-  RenderOutput render(const RenderSettings& settings, const RenderControl& control) const;
+  /// `queue_bytes`, if given, receives the bytes of the engine's per-thread
+  /// queues (0 for engines without queues).
+  RenderOutput render(const RenderSettings& settings, const RenderControl& control,
+                      size_t* queue_bytes = nullptr) const;
   /// Whether the engine renders in passes (can checkpoint and resume).
   bool pass_based() const { return options_.engine != Engine::kReference; }
   double build_seconds() const { return build_seconds_; }
+  /// Bytes of the acceleration structure the engine traces: allocated, and in use.
+  size_t accel_bytes() const { return bvh4_ ? bvh4_->bytes() : reference_accel_->bytes(); }
+  size_t accel_used_bytes() const { return bvh4_ ? bvh4_->used_bytes() : reference_accel_->used_bytes(); }
 
  private:
   const Options& options_;

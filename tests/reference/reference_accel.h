@@ -30,6 +30,16 @@ class ReferenceAccel {
 
   const Bvh2& bvh() const { return bvh_; }
   AccelMode mode() const { return mode_; }
+  /// Bytes the structure holds (BVH nodes and primitive order, or the BVH4);
+  /// 0 for brute force. used_bytes: of those, the ones in use.
+  size_t bytes() const {
+    return bvh_.nodes.capacity() * sizeof(Bvh2Node) + bvh_.prim_order.capacity() * sizeof(uint32_t) +
+           (bvh4_ ? bvh4_->bytes() : 0);
+  }
+  size_t used_bytes() const {
+    return bvh_.nodes.size() * sizeof(Bvh2Node) + bvh_.prim_order.size() * sizeof(uint32_t) +
+           (bvh4_ ? bvh4_->used_bytes() : 0);
+  }
 
  private:
   /// Tests primitive `prim` (triangles first, then spheres); on a hit closer

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Speed against accuracy, in one command: builds the pathtracer, renders (or
+# reuses) each scene's converged reference, runs every method of methods.txt in
+# convergence mode (error against a reference at 1, 2, 4, ... spp, with wall
+# time), draws one chart per scene with Debian's python3 + matplotlib and writes
+# the efficiency table; full runs also write the memory table of every shared
+# scene. Full runs write docs/ and the README's tables; --quick
+# (small images, few samples: a smoke test) writes only build/convergence_quick/.
+#
+# Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
+# Not part of CI: a full run takes about an hour on 2 cores.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+here=scripts/convergence
+
+quick=0
+scenes="CBspheres_lambertian CBbunny CBempty bunny"
+all_scenes=1   # the README's tables are only replaced by a run over every scene
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) quick=1 ;;
+    --scenes) scenes=$2; all_scenes=0; shift ;;
+    *) echo "usage: $0 [--quick] [--scenes \"NAME ...\"]" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+if [ "$quick" = 1 ]; then
+  width=80 height=60 max_spp=64 ref_spp=2048 out=build/convergence_quick csv_dir=build/convergence_quick/csv
+else
+  width=160 height=120 max_spp=512 ref_spp=32768 out=docs csv_dir=build/convergence/csv
+fi
+depth=5 threads=2
+scene_dir=../shared/scenes/cs184
+python=/usr/bin/python3   # Debian's interpreter, which has python3-matplotlib
+mkdir -p "$out" "$csv_dir"
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build --target pathtracer
+pathtracer=build/io/cli/pathtracer
+
+run_log="$out/convergence_run.txt"
+{
+  echo "commit: $(git rev-parse --short HEAD) $(git diff --quiet && echo clean || echo modified)"
+  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
+  echo "settings: ${width}x${height}, -m $depth, -l 1, -t $threads, 1..$max_spp spp; references $ref_spp spp"
+  echo "load at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+} > "$run_log"
+
+method_lines() { grep -v '^\s*#' "$here/methods.txt" | grep -v '^\s*$'; }
+
+for scene in $scenes; do
+  file="$scene_dir/$scene.dae"
+  [ -f "$file" ] || { echo "run_all: $file not found" >&2; exit 1; }
+  ref=$(bash "$here/make_reference.sh" "$file" "$width" "$height" "$depth" "$ref_spp" 1000003 "$threads")
+  combined="$out/convergence_$scene.csv"
+  echo "family,method,spp,seconds,rays,rmse,rel_mse,mean_bias" > "$combined.tmp"
+  while read -r family label args; do
+    read -ra extra <<< "$args"
+    common=(-t "$threads" -m "$depth" -l 1 -r "$width" "$height" -s "$max_spp" -q)
+    [[ " $args " == *" --engine "* ]] || common+=(--engine wavefront)
+    [[ " $args " == *" -a "* ]] || common+=(-a 16 0)
+    csv="$csv_dir/${scene}_$label.csv"
+    echo "run_all: $scene $label" >&2
+    "$pathtracer" "${common[@]}" "${extra[@]}" --reference "$ref" --convergence-csv "$csv" --label "$label" \
+      "$file"
+    tail -n +2 "$csv" | sed "s/^/$family,/" >> "$combined.tmp"
+  done < <(method_lines)
+  mv "$combined.tmp" "$combined"
+  "$python" "$here/plot_convergence.py" "$combined" "$ref" "$out/convergence_$scene.png"
+done
+echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$run_log"
+
+tables=("$python" "$here/efficiency_table.py" --spp-target 64 --reference-spp "$ref_spp")
+for scene in $scenes; do
+  ref=$(bash "$here/make_reference.sh" "$scene_dir/$scene.dae" "$width" "$height" "$depth" "$ref_spp" 1000003 "$threads" 2> /dev/null)
+  tables+=("$scene=$out/convergence_$scene.csv=$ref")
+done
+"${tables[@]}" > "$out/efficiency.md"
+cat "$out/efficiency.md"
+if [ "$quick" = 0 ] && [ "$all_scenes" = 1 ]; then
+  "$python" "$here/update_readme.py" README.md efficiency "$out/efficiency.md"
+  "$python" "$here/memory_table.py" "$pathtracer" "$scene_dir" > "$out/memory.md"
+  "$python" "$here/update_readme.py" README.md memory "$out/memory.md"
+fi

@@ -1,0 +1,138 @@
+// Scene and camera builders for the stability tests.
+#include "stability_scenes.h"
+
+#include <cmath>
+
+namespace pt::test {
+
+uint32_t add_material(Scene& s, float3 albedo, float3 emission) {
+  Material m;
+  m.albedo = albedo;
+  m.emission = emission;
+  s.materials.push_back(m);
+  return static_cast<uint32_t>(s.materials.size() - 1);
+}
+
+void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material) {
+  uint32_t base = static_cast<uint32_t>(s.positions.size());
+  float3 n = normalize(cross(e1, e2));
+  for (float3 p : {corner, corner + e1, corner + e1 + e2, corner + e2}) {
+    s.positions.push_back(p);
+    s.normals.push_back(n);
+  }
+  s.triangles.push_back({base, base + 1, base + 2});
+  s.triangles.push_back({base, base + 2, base + 3});
+  s.triangle_material.push_back(material);
+  s.triangle_material.push_back(material);
+}
+
+void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance) {
+  s.area_lights.push_back({centre, dim_x, dim_y, direction, radiance, length(cross(dim_x, dim_y))});
+  add_area_light_geometry(s, static_cast<uint32_t>(s.area_lights.size() - 1));
+}
+
+void finish_scene(Scene& s) {
+  if (s.area_lights.empty()) s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
+  s.bounds = compute_scene_bounds(s);
+}
+
+namespace {
+
+Scene floor_only() {
+  Scene s;
+  s.name = "floor";
+  add_quad(s, {-10, 0, 10}, {20, 0, 0}, {0, 0, -20}, add_material(s, float3(0.5f)));
+  s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
+  return s;
+}
+
+}  // namespace
+
+Scene floor_under_square_light(float side, float power) {
+  Scene s = floor_only();
+  add_area_light(s, {0, 1, 0}, {side, 0, 0}, {0, 0, side}, {0, -1, 0}, float3(power / (side * side)));
+  finish_scene(s);
+  return s;
+}
+
+Scene floor_under_delta_lights(bool point, bool directional) {
+  Scene s = floor_only();
+  if (point) s.point_lights.push_back({{0, 1, 0}, float3(1.0f)});
+  if (directional) s.directional_lights.push_back({normalize(float3{0.3f, 1.0f, 0.2f}), float3(0.7f)});
+  finish_scene(s);
+  return s;
+}
+
+Scene light_seen_head_on() {
+  Scene s;
+  s.name = "light_head_on";
+  add_quad(s, {-1, -1, 0}, {2, 0, 0}, {0, 0, -2}, add_material(s, float3(0.5f)));
+  s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
+  add_area_light(s, {0, 0, -2}, {2, 0, 0}, {0, 2, 0}, {0, 0, 1}, float3(3.0f));
+  finish_scene(s);
+  return s;
+}
+
+Scene floor_with_degenerate_triangles() {
+  Scene s = floor_only();
+  uint32_t grey = s.triangle_material[0];
+  uint32_t base = static_cast<uint32_t>(s.positions.size());
+  const float3 points[] = {{0.2f, 0.1f, 0.2f}, {0.2f, 0.1f, 0.2f}, {0.2f, 0.1f, 0.2f},     // one point
+                           {-0.5f, 0.1f, 0}, {0, 0.1f, 0}, {0.5f, 0.1f, 0},                // a line
+                           {-0.5f, 0.05f, 0.3f}, {0.5f, 0.05f, 0.3f}, {0, 0.05f, 0.3f + 1e-7f},  // a needle
+                           {-0.3f, 0.2f, -0.3f}, {0.3f, 0.2f, -0.3f}, {0, 0.2f, -0.6f}};  // zero normals
+  for (int i = 0; i < 12; ++i) {
+    s.positions.push_back(points[i]);
+    s.normals.push_back(i < 9 ? normalize(float3{0.1f, 1.0f, 0.0f}) : float3(0.0f));
+  }
+  for (uint32_t t = 0; t < 4; ++t) {
+    s.triangles.push_back({base + 3 * t, base + 3 * t + 1, base + 3 * t + 2});
+    s.triangle_material.push_back(grey);
+  }
+  s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
+  add_area_light(s, {0, 1, 0}, {0.5f, 0, 0}, {0, 0, 0.5f}, {0, -1, 0}, float3(4.0f));
+  finish_scene(s);
+  return s;
+}
+
+Scene scaled_scene(const Scene& scene, float k) {
+  Scene s = scene;
+  for (float3& p : s.positions) p *= k;
+  for (Sphere& sp : s.spheres) {
+    sp.center *= k;
+    sp.radius *= k;
+  }
+  for (AreaLight& l : s.area_lights) {
+    l.position *= k;
+    l.dim_x *= k;
+    l.dim_y *= k;
+    l.area *= k * k;
+  }
+  for (PointLight& l : s.point_lights) l.position *= k;
+  s.camera.near_clip *= k;
+  s.camera.far_clip *= k;
+  s.bounds = compute_scene_bounds(s);
+  return s;
+}
+
+Camera look_at(float3 position, float3 target, float tan_half, float near_clip, float far_clip) {
+  Camera c;
+  c.position = position;
+  c.to_camera = normalize(position - target);
+  float3 up{0.0f, 1.0f, 0.0f};
+  if (length(cross(up, c.to_camera)) < 1e-6f) up = {0.0f, 0.0f, -1.0f};
+  c.screen_x = normalize(cross(up, c.to_camera));
+  c.screen_y = cross(c.to_camera, c.screen_x);
+  c.tan_half_hfov = c.tan_half_vfov = tan_half;
+  c.near_clip = near_clip;
+  c.far_clip = far_clip;
+  return c;
+}
+
+Camera camera_above_floor() { return look_at({0, 0.5f, 0}, {0, 0, 0}, 0.5f); }
+
+Camera camera_facing_minus_z() { return look_at({0, 0, 0}, {0, 0, -1}, 1.0f); }
+
+Camera camera_grazing_floor() { return look_at({-9.0f, 1e-4f, 0}, {10.0f, -0.05f, 0}, 0.05f); }
+
+}  // namespace pt::test
