@@ -112,6 +112,7 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
     if (stats) stats->triangles = static_cast<uint32_t>(in.ids.size());
   });
   bvh.nodes = std::move(topo.nodes);
+  bvh.nodes.shrink_to_fit();  // the collapse grew it node by node: keep no slack
   bvh.root = topo.root;
   if (stats) {
     stats->nodes = static_cast<uint32_t>(bvh.nodes.size());

@@ -224,22 +224,41 @@ std::string read_file_text(const std::filesystem::path& path) {
   return text;
 }
 
-}  // namespace
+/// The arrays were grown element by element: keep no slack for the render.
+void shrink_to_fit(Scene& s) {
+  s.positions.shrink_to_fit();
+  s.normals.shrink_to_fit();
+  s.triangles.shrink_to_fit();
+  s.triangle_material.shrink_to_fit();
+  s.spheres.shrink_to_fit();
+  s.materials.shrink_to_fit();
+  s.area_lights.shrink_to_fit();
+  s.point_lights.shrink_to_fit();
+  s.directional_lights.shrink_to_fit();
+}
 
-LoadResult load_collada_string(std::string_view xml, const std::string& label, const LoadLimits& limits) {
+/// Loads from `text`, which the document takes over (pugixml parses it in place).
+LoadResult load_collada_text(std::string text, const std::string& label, const LoadLimits& limits) {
   auto start = std::chrono::steady_clock::now();
   LoadResult r;
-  ColladaDocument doc(label, std::string(xml));
+  ColladaDocument doc(label, std::move(text));
   r.scene.name = label;
   SceneReader(doc, r.scene, limits).read();
+  shrink_to_fit(r.scene);
   r.warnings = doc.warnings();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
 
+}  // namespace
+
+LoadResult load_collada_string(std::string_view xml, const std::string& label, const LoadLimits& limits) {
+  return load_collada_text(std::string(xml), label, limits);
+}
+
 LoadResult load_collada_file(const std::filesystem::path& path, const LoadLimits& limits) {
   auto start = std::chrono::steady_clock::now();
-  LoadResult r = load_collada_string(read_file_text(path), path.string(), limits);
+  LoadResult r = load_collada_text(read_file_text(path), path.string(), limits);
   r.scene.name = path.filename().string();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

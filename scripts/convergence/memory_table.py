@@ -46,7 +46,7 @@ def row(pathtracer, scene_dir, name):
     tri = max(triangles, 1)
     scene_alloc = sum(v[0] for k, v in lines.items() if k.startswith("scene:"))
     scene_used = sum(v[1] for k, v in lines.items() if k.startswith("scene:"))
-    bvh_alloc, bvh_used = next(v for k, v in lines.items() if k.startswith("bvh2:"))
+    bvh_alloc, bvh_used = next(v for k, v in lines.items() if k.endswith(": nodes and leaves"))
     per_pixel = sum(v[0] for k, v in lines.items()
                     if k.startswith(("pass driver:", "film:"))) / (480 * 360)
     queues = lines["wavefront: wave queues"][0] / 2 / 1024
@@ -63,7 +63,7 @@ def main():
           "Scene and BVH columns: bytes per triangle allocated / in use. Per pixel: accumulators, pixel lists and "
           "film of the pass-based engines. Held: every structure alive at the end of the wavefront render. "
           "Peak RSS: whole process, wavefront / megakernel / reference engine.\n")
-    print("| scene | triangles | scene arrays B/tri | BVH B/tri | wave queues KiB/thread | per pixel B | "
+    print("| scene | triangles | scene arrays B/tri | BVH4 B/tri | wave queues KiB/thread | per pixel B | "
           "held MB | peak RSS MB |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for name in SCENES:

@@ -8,7 +8,7 @@
 # (small images, few samples: a smoke test) writes only build/convergence_quick/.
 #
 # Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
-# Not part of CI: a full run takes about an hour on 2 cores.
+# Not part of CI: a full run takes about half an hour on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 here=scripts/convergence
@@ -28,7 +28,7 @@ done
 if [ "$quick" = 1 ]; then
   width=80 height=60 max_spp=64 ref_spp=2048 out=build/convergence_quick csv_dir=build/convergence_quick/csv
 else
-  width=160 height=120 max_spp=512 ref_spp=32768 out=docs csv_dir=build/convergence/csv
+  width=320 height=240 max_spp=512 ref_spp=16384 out=docs csv_dir=build/convergence/csv
 fi
 depth=5 threads=2
 scene_dir=../shared/scenes/cs184
