@@ -4,8 +4,9 @@
 // second (camera + bounce + shadow). The acceleration structure is built
 // before timing. Google Benchmark JSON via --benchmark_out.
 //
-// Default settings are issue 4's: 480x360, -s 64 -l 4 -m 5, adaptive sampling
-// off, 2 threads, the course renderer's framing (--cs184-framing).
+// Default settings are those of the course renderer's published timing:
+// 480x360, -s 64 -l 4 -m 5, adaptive sampling off, 2 threads, the course
+// renderer's framing (--cs184-framing).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
