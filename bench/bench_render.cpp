@@ -34,7 +34,7 @@ struct LoadedScene {
   std::unique_ptr<reference::ReferenceAccel> reference_accel;
 };
 
-RenderSettings issue_settings() {
+RenderSettings course_comparison_settings() {
   RenderSettings rs;
   rs.width = 480;
   rs.height = 360;
@@ -52,7 +52,7 @@ const LoadedScene& scene(const std::string& name) {
     if (n == name) return *s;
   auto s = std::make_unique<LoadedScene>();
   s->scene = load_collada_file(std::filesystem::path(PT_SHARED_SCENES) / name).scene;
-  RenderSettings rs = issue_settings();
+  RenderSettings rs = course_comparison_settings();
   s->camera = resolve_camera(s->scene, rs.width, rs.height, /*cs184_framing=*/true);
   s->bvh = std::make_unique<SceneBvh4>(s->scene);
   s->reference_accel = std::make_unique<reference::ReferenceAccel>(s->scene, reference::AccelMode::kBvh4);
@@ -77,7 +77,7 @@ void bench_render(benchmark::State& state, const std::string& scene_name, const 
     return;
   }
   const LoadedScene& s = scene(scene_name);
-  RenderSettings rs = issue_settings();
+  RenderSettings rs = course_comparison_settings();
   rs.threads = threads;
   RenderStats last;
   for (auto _ : state) {

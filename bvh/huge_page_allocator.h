@@ -21,10 +21,17 @@ template <class T> struct HugePageAllocator {
   HugePageAllocator() = default;
   template <class U> HugePageAllocator(const HugePageAllocator<U>&) {}
 
+  /// Bytes an allocation of n elements takes: blocks of kThreshold and more
+  /// are rounded up to whole huge pages (all of which become resident).
+  static constexpr std::size_t allocated_bytes(std::size_t n) {
+    std::size_t bytes = n * sizeof(T);
+    return bytes < kThreshold ? bytes : (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  }
+
   T* allocate(std::size_t n) {
     std::size_t bytes = n * sizeof(T);
     if (bytes < kThreshold) return static_cast<T*>(::operator new(bytes, std::align_val_t(alignof(T))));
-    std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    std::size_t rounded = allocated_bytes(n);
     void* p = std::aligned_alloc(kHugePage, rounded);
     if (!p) throw std::bad_alloc();
     madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure leaves ordinary pages

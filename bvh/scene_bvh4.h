@@ -64,9 +64,11 @@ class SceneBvh4 {
   void occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t> blocked) const;
 
   const Bvh4BuildStats& stats() const { return stats_; }
-  /// Bytes of nodes, triangle blocks and spheres: allocated, and of those in use.
+  /// Bytes of nodes, triangle blocks and spheres: allocated (arrays of 1 MiB
+  /// and more take whole 2 MiB huge pages), and of those in use.
   size_t bytes() const {
-    return bvh_.nodes.capacity() * sizeof(Bvh4Node) + bvh_.blocks.capacity() * sizeof(TriangleBlock4) +
+    return decltype(bvh_.nodes)::allocator_type::allocated_bytes(bvh_.nodes.capacity()) +
+           decltype(bvh_.blocks)::allocator_type::allocated_bytes(bvh_.blocks.capacity()) +
            spheres_.capacity() * sizeof(SphereShape);
   }
   size_t used_bytes() const {

@@ -237,7 +237,7 @@ void shrink_to_fit(Scene& s) {
   s.directional_lights.shrink_to_fit();
 }
 
-/// Loads from `text`, which the document takes over (pugixml parses it in place).
+/// Loads from `text`, which the document takes over (it keeps it for line numbers in messages).
 LoadResult load_collada_text(std::string text, const std::string& label, const LoadLimits& limits) {
   auto start = std::chrono::steady_clock::now();
   LoadResult r;

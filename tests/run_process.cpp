@@ -1,6 +1,7 @@
 // run_process on fork / execv with poll() over both pipes; ScratchDir on mkdtemp.
 #include "run_process.h"
 
+#include <cerrno>
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -81,7 +82,9 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
   close(err_pipe[0]);
   int status = 0;
   struct rusage usage{};
-  wait4(pid, &status, 0, &usage);
+  while (wait4(pid, &status, 0, &usage) < 0) {
+    if (errno != EINTR) return r;  // exit_code stays -1: not "exited 0"
+  }
   r.peak_rss_bytes = static_cast<size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;

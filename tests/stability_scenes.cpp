@@ -5,14 +5,6 @@
 
 namespace pt::test {
 
-uint32_t add_material(Scene& s, float3 albedo, float3 emission) {
-  Material m;
-  m.albedo = albedo;
-  m.emission = emission;
-  s.materials.push_back(m);
-  return static_cast<uint32_t>(s.materials.size() - 1);
-}
-
 void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material) {
   uint32_t base = static_cast<uint32_t>(s.positions.size());
   float3 n = normalize(cross(e1, e2));
@@ -29,11 +21,6 @@ void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material) 
 void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance) {
   s.area_lights.push_back({centre, dim_x, dim_y, direction, radiance, length(cross(dim_x, dim_y))});
   add_area_light_geometry(s, static_cast<uint32_t>(s.area_lights.size() - 1));
-}
-
-void finish_scene(Scene& s) {
-  if (s.area_lights.empty()) s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
-  s.bounds = compute_scene_bounds(s);
 }
 
 namespace {
@@ -115,7 +102,12 @@ Scene scaled_scene(const Scene& scene, float k) {
   return s;
 }
 
-Camera look_at(float3 position, float3 target, float tan_half, float near_clip, float far_clip) {
+
+namespace {
+
+/// Camera at `position` looking at `target` (up: +Y unless looking along it),
+/// tan(half field of view) = tan_half on both axes, clip range 1e-4..1e4.
+Camera square_view(float3 position, float3 target, float tan_half) {
   Camera c;
   c.position = position;
   c.to_camera = normalize(position - target);
@@ -124,15 +116,17 @@ Camera look_at(float3 position, float3 target, float tan_half, float near_clip, 
   c.screen_x = normalize(cross(up, c.to_camera));
   c.screen_y = cross(c.to_camera, c.screen_x);
   c.tan_half_hfov = c.tan_half_vfov = tan_half;
-  c.near_clip = near_clip;
-  c.far_clip = far_clip;
+  c.near_clip = 1e-4f;
+  c.far_clip = 1e4f;
   return c;
 }
 
-Camera camera_above_floor() { return look_at({0, 0.5f, 0}, {0, 0, 0}, 0.5f); }
+}  // namespace
 
-Camera camera_facing_minus_z() { return look_at({0, 0, 0}, {0, 0, -1}, 1.0f); }
+Camera camera_above_floor() { return square_view({0, 0.5f, 0}, {0, 0, 0}, 0.5f); }
 
-Camera camera_grazing_floor() { return look_at({-9.0f, 1e-4f, 0}, {10.0f, -0.05f, 0}, 0.05f); }
+Camera camera_facing_minus_z() { return square_view({0, 0, 0}, {0, 0, -1}, 1.0f); }
+
+Camera camera_grazing_floor() { return square_view({-9.0f, 1e-4f, 0}, {10.0f, -0.05f, 0}, 0.05f); }
 
 }  // namespace pt::test

@@ -6,11 +6,9 @@
 
 #include "kernels/camera.h"
 #include "kernels/scene.h"
+#include "scene_builders.h"  // add_material, finish_scene
 
 namespace pt::test {
-
-/// Appends a material; returns its index.
-uint32_t add_material(Scene& s, float3 albedo, float3 emission = {});
 
 /// Appends the parallelogram corner, corner + e1, corner + e1 + e2, corner + e2
 /// as two mesh triangles of `material`, with vertex normals along cross(e1, e2).
@@ -19,9 +17,6 @@ void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material);
 /// Appends an area light (and its two emitting triangles) centred at `centre`
 /// with edges dim_x, dim_y, emitting `radiance` towards `direction` (unit).
 void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance);
-
-/// Sets mesh_triangle_count (call before the first add_area_light) and bounds.
-void finish_scene(Scene& s);
 
 /// A 20 x 20 floor (y = 0, albedo 0.5) under a square area light of side
 /// `side` at height 1 facing down, radiance power / side^2: the irradiance
@@ -43,10 +38,6 @@ Scene floor_with_degenerate_triangles();
 /// `scene` with every length multiplied by `k`: positions, spheres, lights,
 /// the area lights' areas and the camera's clip distances (radiance unchanged).
 Scene scaled_scene(const Scene& scene, float k);
-
-/// Camera at `position` looking at `target` (up: +Y unless looking along it),
-/// tan(half field of view) = tan_half on both axes.
-Camera look_at(float3 position, float3 target, float tan_half, float near_clip = 1e-4f, float far_clip = 1e4f);
 
 /// Camera at height 0.5 above the floor's centre, looking straight down.
 Camera camera_above_floor();

@@ -41,7 +41,7 @@ pathtracer=build/io/cli/pathtracer
 
 run_log="$out/convergence_run.txt"
 {
-  echo "commit: $(git rev-parse --short HEAD) $(git diff --quiet && echo clean || echo modified)"
+  echo "commit: $(git rev-parse --short HEAD) $(git diff --quiet -- . ':!docs' ':!README.md' && echo clean || echo modified)"
   echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
   echo "settings: ${width}x${height}, -m $depth, -l 1, -t $threads, 1..$max_spp spp; references $ref_spp spp"
   echo "load at start: $(cut -d' ' -f1-3 /proc/loadavg)"
