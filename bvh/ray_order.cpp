@@ -46,23 +46,36 @@ uint32_t ray_order_key(const Ray& ray, const BBox& bounds) {
 std::vector<uint32_t> coherent_order(std::span<const Ray> rays, const BBox& bounds) {
   const size_t n = rays.size();
   std::vector<uint32_t> keys(n), order(n), keys2(n), order2(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
+  // Fixed chunks (not the scheduler's ranges): each chunk's rays keep their
+  // order within a bucket, so the result is the same for any thread count.
+  const size_t chunks = std::clamp<size_t>(n / 16384, 1, 64);
+  auto chunk_begin = [&](size_t c) { return n * c / chunks; };
+  auto for_each_chunk = [&](auto&& f) {
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) { f(c, chunk_begin(c), chunk_begin(c + 1)); });
+  };
+  for_each_chunk([&](size_t, size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) {
       keys[i] = ray_order_key(rays[i], bounds);
       order[i] = static_cast<uint32_t>(i);
     }
   });
+  std::vector<std::array<uint32_t, kBuckets>> offset(chunks);
   for (int pass = 0; pass < 2; ++pass) {  // least significant digit first: stable
-    int shift = pass * kRadixBits;
-    std::array<uint32_t, kBuckets> start{};
-    for (uint32_t k : keys) ++start[(k >> shift) & (kBuckets - 1)];
-    uint32_t sum = 0;
-    for (uint32_t& s : start) sum += std::exchange(s, sum);
-    for (size_t i = 0; i < n; ++i) {
-      uint32_t slot = start[(keys[i] >> shift) & (kBuckets - 1)]++;
-      keys2[slot] = keys[i];
-      order2[slot] = order[i];
-    }
+    const int shift = pass * kRadixBits;
+    for_each_chunk([&](size_t c, size_t begin, size_t end) {
+      offset[c].fill(0);
+      for (size_t i = begin; i != end; ++i) ++offset[c][(keys[i] >> shift) & (kBuckets - 1)];
+    });
+    uint32_t sum = 0;  // bucket-major, chunk-minor exclusive prefix sum
+    for (uint32_t b = 0; b < kBuckets; ++b)
+      for (size_t c = 0; c < chunks; ++c) sum += std::exchange(offset[c][b], sum);
+    for_each_chunk([&](size_t c, size_t begin, size_t end) {
+      for (size_t i = begin; i != end; ++i) {
+        uint32_t slot = offset[c][(keys[i] >> shift) & (kBuckets - 1)]++;
+        keys2[slot] = keys[i];
+        order2[slot] = order[i];
+      }
+    });
     keys.swap(keys2);
     order.swap(order2);
   }

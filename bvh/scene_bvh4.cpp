@@ -2,6 +2,10 @@
 #include "scene_bvh4.h"
 
 #include <algorithm>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <type_traits>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -40,9 +44,17 @@ template <class F> void for_each_index(size_t n, F&& f) {
 
 /// The rays in coherent_order, copied: the copy's independent loads overlap,
 /// while loads through the index inside the traversal loop would each stall.
-std::vector<Ray> gather_in_order(std::span<const Ray> rays, const std::vector<uint32_t>& order) {
-  std::vector<Ray> sorted(rays.size());
-  for_each_index(rays.size(), [&](size_t k) { sorted[k] = rays[order[k]]; });
+/// Uninitialised storage filled in parallel (a vector, or new Ray[], would
+/// first initialise it on one thread); memcpy starts the rays' lifetimes.
+struct FreeRays {
+  void operator()(Ray* p) const { ::operator delete(p, std::align_val_t(alignof(Ray))); }
+};
+using RayBuffer = std::unique_ptr<Ray[], FreeRays>;
+
+RayBuffer gather_in_order(std::span<const Ray> rays, const std::vector<uint32_t>& order) {
+  static_assert(std::is_trivially_copyable_v<Ray> && std::is_trivially_destructible_v<Ray>);
+  RayBuffer sorted(static_cast<Ray*>(::operator new(rays.size() * sizeof(Ray), std::align_val_t(alignof(Ray)))));
+  for_each_index(rays.size(), [&](size_t k) { std::memcpy(&sorted[k], &rays[order[k]], sizeof(Ray)); });
   return sorted;
 }
 
@@ -54,10 +66,8 @@ void SceneBvh4::intersect_incoherent(std::span<const Ray> rays, std::span<Hit> h
     return;
   }
   std::vector<uint32_t> order = coherent_order(rays, bounds_);
-  std::vector<Ray> sorted = gather_in_order(rays, order);
-  std::vector<Hit> found(rays.size());
-  for_each_index(rays.size(), [&](size_t k) { intersect(sorted[k], found[k]); });
-  for_each_index(rays.size(), [&](size_t k) { hits[order[k]] = found[k]; });
+  RayBuffer sorted = gather_in_order(rays, order);
+  for_each_index(rays.size(), [&](size_t k) { intersect(sorted[k], hits[order[k]]); });
 }
 
 void SceneBvh4::occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
@@ -66,10 +76,8 @@ void SceneBvh4::occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t
     return;
   }
   std::vector<uint32_t> order = coherent_order(rays, bounds_);
-  std::vector<Ray> sorted = gather_in_order(rays, order);
-  std::vector<uint8_t> found(rays.size());
-  for_each_index(rays.size(), [&](size_t k) { found[k] = occluded(sorted[k]); });
-  for_each_index(rays.size(), [&](size_t k) { blocked[order[k]] = found[k]; });
+  RayBuffer sorted = gather_in_order(rays, order);
+  for_each_index(rays.size(), [&](size_t k) { blocked[order[k]] = occluded(sorted[k]); });
 }
 
 uint32_t SceneBvh4::occluded_packet(const Ray* rays, uint32_t lanes) const {
