@@ -16,7 +16,7 @@ def main(path):
     for e in data["benchmarks"]:
         if e.get("run_type") != "iteration" or e.get("error_occurred"):
             continue
-        _, scene, engine, _ = e["run_name"].split("/")
+        scene, engine = e["run_name"].split("/")[1:3]
         runs[(scene, engine)].append(e)
     scenes = sorted({s for s, _ in runs})
     engines = ["wavefront", "wavefront_no_packets", "megakernel", "reference"]

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 #include <gtest/gtest-spi.h>
@@ -98,6 +99,8 @@ TEST(EngineAgreement, SameSeedSamePathsOnEverySceneAndMode) {
         std::string worst;
         double fraction = agreement(ref, film, worst);
         EXPECT_GE(fraction, 0.995) << engine.name << " on " << path << " (" << mode.name << "); worst:" << worst;
+        std::printf("  %s, %s, %s: %.2f%% of pixels within 1e-3; worst:%s\n", engine.name.c_str(),
+                    std::filesystem::path(path).stem().c_str(), mode.name, 100.0 * fraction, worst.c_str());
       }
     }
   }
