@@ -6,16 +6,7 @@
 namespace pt::test {
 
 void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material) {
-  uint32_t base = static_cast<uint32_t>(s.positions.size());
-  float3 n = normalize(cross(e1, e2));
-  for (float3 p : {corner, corner + e1, corner + e1 + e2, corner + e2}) {
-    s.positions.push_back(p);
-    s.normals.push_back(n);
-  }
-  s.triangles.push_back({base, base + 1, base + 2});
-  s.triangles.push_back({base, base + 2, base + 3});
-  s.triangle_material.push_back(material);
-  s.triangle_material.push_back(material);
+  add_quad(s, corner, corner + e1, corner + e1 + e2, corner + e2, normalize(cross(e1, e2)), material);
 }
 
 void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance) {
