@@ -8,7 +8,7 @@
 # (small images, few samples: a smoke test) writes only build/convergence_quick/.
 #
 # Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
-# Not part of CI: a full run takes about half an hour on 2 cores.
+# Not part of CI: a full run takes about 8 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 here=scripts/convergence
