@@ -1,8 +1,8 @@
 // The 4-wide slab test of one Bvh4Node against one ray, with the per-ray
 // constants computed once: reciprocal direction (tiny components clamped, so
-// no 0 * inf NaN), origin times reciprocal (one explicit FMA per plane: the build turns
-// off implicit contraction), and the byte
-// offsets of the near and far planes per axis (no branch on direction signs).
+// no 0 * inf NaN), origin times reciprocal (one explicit FMA per plane: the
+// build turns off implicit contraction), and the byte offsets of the near and
+// far planes per axis (no branch on direction signs).
 #pragma once
 
 #include <cmath>
@@ -29,7 +29,7 @@ struct NodeRay {
 
   static constexpr float kMinDir = 1e-18f;
 
-  __attribute__((always_inline)) explicit NodeRay(const Ray& r) {
+  PT_ALWAYS_INLINE explicit NodeRay(const Ray& r) {
     for (int a = 0; a < 3; ++a) {
       float d = r.dir[a];
       float safe = std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d;
@@ -45,8 +45,8 @@ struct NodeRay {
 
 /// Slab test of the four children of `node` over [tmin, tmax]. Returns the
 /// bit mask of children hit and their entry distances in `tnear`.
-PT_ALWAYS_INLINE uint32_t intersect_node(const Bvh4Node& node, const NodeRay& r, const vfloat4& tmin, const vfloat4& tmax,
-                               vfloat4& tnear) {
+PT_ALWAYS_INLINE uint32_t intersect_node(const Bvh4Node& node, const NodeRay& r, const vfloat4& tmin,
+                                         const vfloat4& tmax, vfloat4& tnear) {
   const char* base = reinterpret_cast<const char*>(&node);
   auto plane = [base](uint32_t offset) { return vfloat4::load_aligned(reinterpret_cast<const float*>(base + offset)); };
   vfloat4 tnx = xsimd::fms(plane(r.near[0]), r.rdir[0], r.org_rdir[0]);

@@ -27,15 +27,15 @@ inline constexpr int kBvh4StackSize = 3 * kBvh2MaxDepth + 4;
 template <TriangleForm F> struct BlockTest;
 template <> struct BlockTest<TriangleForm::kMollerTrumbore> {
   using RayConstants = MtBlockRay;
-  __attribute__((always_inline)) static uint32_t test(const TriangleBlock4& b, const RayConstants& r,
-                                                      const vfloat4& tmax, BlockHits& h) {
+  PT_ALWAYS_INLINE static uint32_t test(const TriangleBlock4& b, const RayConstants& r, const vfloat4& tmax,
+                                        BlockHits& h) {
     return intersect_block_mt(b, r, tmax, h);
   }
 };
 template <> struct BlockTest<TriangleForm::kWatertight> {
   using RayConstants = WatertightBlockRay;
-  __attribute__((always_inline)) static uint32_t test(const TriangleBlock4& b, const RayConstants& r,
-                                                      const vfloat4& tmax, BlockHits& h) {
+  PT_ALWAYS_INLINE static uint32_t test(const TriangleBlock4& b, const RayConstants& r, const vfloat4& tmax,
+                                        BlockHits& h) {
     return intersect_block_watertight(b, r, tmax, h);
   }
 };

@@ -71,10 +71,7 @@ class SceneBvh4 {
            decltype(bvh_.blocks)::allocator_type::allocated_bytes(bvh_.blocks.capacity()) +
            spheres_.capacity() * sizeof(SphereShape);
   }
-  size_t used_bytes() const {
-    return bvh_.nodes.size() * sizeof(Bvh4Node) + bvh_.blocks.size() * sizeof(TriangleBlock4) +
-           spheres_.size() * sizeof(SphereShape);
-  }
+  size_t used_bytes() const { return stats_.bytes + spheres_.size() * sizeof(SphereShape); }
   const Bvh4& bvh() const { return bvh_; }
 
  private:

@@ -23,15 +23,15 @@ struct BlockHits {
 /// Per-ray constants of the Moller-Trumbore block test.
 struct MtBlockRay {
   vfloat4 org[3], dir[3], tmin;
-  __attribute__((always_inline)) explicit MtBlockRay(const Ray& r) : tmin(r.tmin) {
+  PT_ALWAYS_INLINE explicit MtBlockRay(const Ray& r) : tmin(r.tmin) {
     for (int a = 0; a < 3; ++a) { org[a] = vfloat4(r.org[a]); dir[a] = vfloat4(r.dir[a]); }
   }
 };
 
 /// Shared tail: lanes whose sign-adjusted numerators put the hit inside the
 /// triangle and inside [tmin, tmax); divides only when some lane passes.
-PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 u_num, vfloat4 v_num, vbool4 inside,
-                                  const vfloat4& tmin, const vfloat4& tmax, BlockHits& h) {
+PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 u_num, vfloat4 v_num,
+                                            vbool4 inside, const vfloat4& tmin, const vfloat4& tmax, BlockHits& h) {
   vfloat4 sign = xsimd::bitofsign(det);
   vfloat4 abs_det = det ^ sign;
   vfloat4 t_abs = t_num ^ sign;
@@ -47,7 +47,8 @@ PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 
 }
 
 /// Moller-Trumbore on a block in kMollerTrumbore form.
-PT_ALWAYS_INLINE uint32_t intersect_block_mt(const TriangleBlock4& b, const MtBlockRay& r, const vfloat4& tmax, BlockHits& h) {
+PT_ALWAYS_INLINE uint32_t intersect_block_mt(const TriangleBlock4& b, const MtBlockRay& r, const vfloat4& tmax,
+                                             BlockHits& h) {
   vfloat4 e1x = vfloat4::load_aligned(b.r1[0]), e1y = vfloat4::load_aligned(b.r1[1]), e1z = vfloat4::load_aligned(b.r1[2]);
   vfloat4 e2x = vfloat4::load_aligned(b.r2[0]), e2y = vfloat4::load_aligned(b.r2[1]), e2z = vfloat4::load_aligned(b.r2[2]);
   vfloat4 px = r.dir[1] * e2z - r.dir[2] * e2y;
@@ -85,8 +86,8 @@ void watertight_edges_in_double(const float ax[4], const float ay[4], const floa
                                 vfloat4& w);
 
 /// Watertight test on a block in kWatertight form.
-PT_ALWAYS_INLINE uint32_t intersect_block_watertight(const TriangleBlock4& b, const WatertightBlockRay& r, const vfloat4& tmax,
-                                           BlockHits& h) {
+PT_ALWAYS_INLINE uint32_t intersect_block_watertight(const TriangleBlock4& b, const WatertightBlockRay& r,
+                                                     const vfloat4& tmax, BlockHits& h) {
   auto row = [](const float (*rows)[4], uint32_t axis) { return vfloat4::load_aligned(rows[axis]); };
   vfloat4 az = row(b.v0, r.kz) - r.org[2], bz = row(b.r1, r.kz) - r.org[2], cz = row(b.r2, r.kz) - r.org[2];
   vfloat4 ax = (row(b.v0, r.kx) - r.org[0]) - r.sx * az, ay = (row(b.v0, r.ky) - r.org[1]) - r.sy * az;

@@ -63,13 +63,10 @@ TEST(MemoryReport, CountsTheSceneArraysExactly) {
 /// A wavefront render of the floor scene at w x h and its report.
 cli::MemoryReport wavefront_report(int w, int h) {
   Scene scene = test::floor_under_square_light(0.5f);
-  RenderSettings rs;
-  rs.width = w;
-  rs.height = h;
-  rs.samples_per_pixel = 4;
+  RenderSettings rs = test::fixed_settings(w, h, 4);
   rs.max_depth = 3;
-  rs.adaptive_tolerance = 0.0f;
   rs.threads = 1;
+  rs.seed = 0;
   reference::ReferenceAccel accel(scene, reference::AccelMode::kBvh);
   wf::StageStats stages;
   RenderOutput out =

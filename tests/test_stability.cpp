@@ -26,13 +26,8 @@ namespace {
 using test::engines_under_test;
 
 RenderSettings settings(int width, int height, int spp, int max_depth, uint32_t seed) {
-  RenderSettings rs;
-  rs.width = width;
-  rs.height = height;
-  rs.samples_per_pixel = spp;
+  RenderSettings rs = test::fixed_settings(width, height, spp);
   rs.max_depth = max_depth;
-  rs.adaptive_tolerance = 0.0f;
-  rs.threads = 2;
   rs.seed = seed;
   return rs;
 }

@@ -139,13 +139,9 @@ const DirectLighting kAllDirect[] = {DirectLighting::kLightSampling, DirectLight
 void expect_no_invalid_samples(const Scene& scene, const Camera& cam, int w, int h, int spp, const std::string& what) {
   for (const test::EngineUnderTest& engine : engines_under_test())
     for (int mode = 0; mode < 5; ++mode) {
-      RenderSettings rs;
-      rs.width = w;
-      rs.height = h;
-      rs.samples_per_pixel = spp;
+      RenderSettings rs = test::fixed_settings(w, h, spp);
       rs.max_depth = 4;
-      rs.adaptive_tolerance = 0.0f;
-      rs.threads = 2;
+      rs.seed = 0;
       rs.direct = kAllDirect[mode % 4];
       rs.sampler = mode == 4 ? PixelSampler::kSobol : PixelSampler::kIndependent;
       RenderOutput out = engine.render(scene, cam, rs);
