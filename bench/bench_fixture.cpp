@@ -58,8 +58,7 @@ SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions&
 SceneFixture::~SceneFixture() = default;
 
 void SceneFixture::add_tracers(const FixtureOptions& options) {
-  tracers_.push_back({"bvh4", single_rays([this](const Ray& r, Hit& h) { bvh4_->intersect(r, h); },
-                                     [this](const Ray& r) { return bvh4_->occluded(r); })});
+  tracers_.push_back({"bvh4", each_ray(*bvh4_)});
   TracerEntry packets{"bvh4_packet", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t*) {
                          bvh4_->intersect(std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b),
                                           std::span<Hit>(hits + b, e - b));
@@ -76,8 +75,7 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
   Bvh4Options watertight;
   watertight.watertight = true;
   bvh4_watertight_ = std::make_unique<SceneBvh4>(scene_, watertight);
-  tracers_.push_back({"bvh4_watertight", single_rays([this](const Ray& r, Hit& h) { bvh4_watertight_->intersect(r, h); },
-                                                [this](const Ray& r) { return bvh4_watertight_->occluded(r); })});
+  tracers_.push_back({"bvh4_watertight", each_ray(*bvh4_watertight_)});
   add_reference_tracers(options);
 #ifdef PT_HAVE_EMBREE
   add_embree_tracers();

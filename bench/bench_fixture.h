@@ -71,6 +71,15 @@ class SceneFixture {
         for (size_t i = b; i < e; ++i) closest(rays[i], hits[i]);
     };
   }
+  /// A TraceFn tracing each ray of the range on its own through `bvh`, with one
+  /// call per range into the level's kernels.
+  TraceFn each_ray(const SceneBvh4& bvh) const {
+    return [this, &bvh](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+      std::span<const Ray> rays = std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b);
+      if (kind == RayKind::kShadow) bvh.occluded_each(rays, std::span<uint8_t>(blocked + b, e - b));
+      else bvh.intersect_each(rays, std::span<Hit>(hits + b, e - b));
+    };
+  }
   void add_tracers(const FixtureOptions& options);
   void add_reference_tracers(const FixtureOptions& options);
 #ifdef PT_HAVE_EMBREE

@@ -19,9 +19,7 @@
 #include "io/camera_setup.h"
 #include "io/collada_loader.h"
 #include "tests/reference/reference_renderer.h"
-#include "wavefront/megakernel_renderer.h"
-#include "wavefront/tracers.h"
-#include "wavefront/wavefront_renderer.h"
+#include "wavefront/engines.h"
 
 namespace {
 
@@ -61,13 +59,14 @@ const LoadedScene& scene(const std::string& name) {
 }
 
 RenderOutput render(const std::string& engine, const LoadedScene& s, const RenderSettings& rs) {
-  if (engine == "wavefront") return wf::render_wavefront(s.scene, s.camera, rs, wf::Bvh4Tracer<>{*s.bvh});
+  const wf::Tracing tracing{.bvh4 = s.bvh.get()};
+  if (engine == "wavefront") return wf::render_wavefront(s.scene, s.camera, rs, tracing);
   if (engine == "wavefront_no_packets") {
     wf::WavefrontOptions o;
     o.packets = false;
-    return wf::render_wavefront(s.scene, s.camera, rs, wf::Bvh4Tracer<>{*s.bvh}, o);
+    return wf::render_wavefront(s.scene, s.camera, rs, tracing, o);
   }
-  if (engine == "megakernel") return wf::render_megakernel(s.scene, s.camera, rs, wf::Bvh4Tracer<>{*s.bvh});
+  if (engine == "megakernel") return wf::render_megakernel(s.scene, s.camera, rs, tracing);
   return reference::render_reference(s.scene, *s.reference_accel, s.camera, rs);
 }
 

@@ -1,11 +1,15 @@
-// The one place that names SIMD types. N = BVH branching factor (4), K = lanes of
-// the uniform (across-rays) stages: the widest float batch xsimd picks for the
-// build target. Everything else says vfloat4 / vfloatK and never touches
-// intrinsics directly; the few operations xsimd 8.1 lacks (mask extraction,
-// horizontal minimum, a contraction barrier, prefetch, denormal mode) are
-// wrapped here.
+// The one place that names SIMD types and touches intrinsics. N = BVH
+// branching factor (4): vfloat4 is SSE on x86 and NEON on aarch64, in every
+// translation unit. K = lanes of the uniform (across-rays) stages: the widest
+// float batch of the instruction-set level the translation unit is compiled
+// for (SSE4.2 and NEON 4, AVX2 8, AVX-512 16). K-wide types exist only in code
+// compiled once per level (PT_ISA_NS is defined; kernels/isa.h), so code built
+// once for every CPU cannot pick up a width by accident. The operations xsimd
+// 8.1 lacks (mask extraction, compaction, horizontal min/max, a contraction
+// barrier, prefetch, denormal mode) are written here once per architecture.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -15,7 +19,13 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#if defined(__x86_64__)
 #include <immintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#else
+#error "the SIMD kernels are written for x86-64 and aarch64"
+#endif
 #include <xsimd/xsimd.hpp>
 #pragma GCC diagnostic pop
 
@@ -25,50 +35,165 @@
 
 namespace pt {
 
-using vfloat4 = xsimd::batch<float, xsimd::sse4_2>;
-using vint4 = xsimd::batch<int32_t, xsimd::sse4_2>;
-using vuint4 = xsimd::batch<uint32_t, xsimd::sse4_2>;
-using vbool4 = xsimd::batch_bool<float, xsimd::sse4_2>;
+#if defined(__x86_64__)
+using Arch4 = xsimd::sse4_2;
+#else
+using Arch4 = xsimd::neon64;
+#endif
+using vfloat4 = xsimd::batch<float, Arch4>;
+using vint4 = xsimd::batch<int32_t, Arch4>;
+using vuint4 = xsimd::batch<uint32_t, Arch4>;
+using vbool4 = xsimd::batch_bool<float, Arch4>;
+
+inline constexpr std::size_t kBvhWidth = 4;
+/// The widest K of any level: streams are padded to it, so their layout is
+/// the same at every level.
+inline constexpr std::size_t kMaxLanes = 16;
+
+/// The mask of the lowest n of 32 lanes (n <= 32).
+constexpr uint32_t lanes_below(std::size_t n) { return n >= 32 ? ~0u : (1u << n) - 1u; }
+
+namespace simd_detail {
+/// pshufb / tbl controls that move the 32-bit lanes set in a 4-bit mask to
+/// the front, in order (the other bytes repeat lane 0).
+inline constexpr std::array<std::array<uint8_t, 16>, 16> kCompress4 = [] {
+  std::array<std::array<uint8_t, 16>, 16> table{};
+  for (uint32_t mask = 0; mask < 16; ++mask) {
+    uint32_t out = 0;
+    for (uint32_t lane = 0; lane < 4; ++lane)
+      if (mask >> lane & 1) {
+        for (uint32_t b = 0; b < 4; ++b) table[mask][4 * out + b] = static_cast<uint8_t>(4 * lane + b);
+        ++out;
+      }
+    for (; out < 4; ++out)
+      for (uint32_t b = 0; b < 4; ++b) table[mask][4 * out + b] = static_cast<uint8_t>(b);
+  }
+  return table;
+}();
+}  // namespace simd_detail
+
+/// Bit mask of the true lanes of a 4-wide comparison (lane i -> bit i).
+inline uint32_t movemask(vbool4 m) {
+#if defined(__x86_64__)
+  return static_cast<uint32_t>(_mm_movemask_ps(m));
+#else
+  const uint32x4_t bit = {1, 2, 4, 8};
+  return vaddvq_u32(vandq_u32(m, bit));
+#endif
+}
+
+/// Smallest of the four lanes; the lanes must not be NaN.
+inline float reduce_min(vfloat4 v) {
+#if defined(__x86_64__)
+  __m128 a = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+  a = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtss_f32(a);
+#else
+  return vminvq_f32(v);
+#endif
+}
+
+/// Largest of the four lanes; the lanes must not be NaN.
+inline float reduce_max(vfloat4 v) {
+#if defined(__x86_64__)
+  __m128 a = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+  a = _mm_max_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtss_f32(a);
+#else
+  return vmaxvq_f32(v);
+#endif
+}
+
+/// Returns v unchanged, rounded to float: the compiler cannot contract a
+/// product passed through here into an FMA with what follows. Watertight edge
+/// functions a*b - c*d need both products rounded so that the two triangles
+/// sharing an edge compute exactly opposite values.
+inline vfloat4 keep_rounded(vfloat4 v) {
+  typename vfloat4::register_type x = v;
+#if defined(__x86_64__)
+  asm("" : "+x"(x));
+#else
+  asm("" : "+w"(x));
+#endif
+  return x;
+}
+
+/// Hints the cache to load the 64-byte line holding p.
+inline void prefetch_l1(const void* p) { __builtin_prefetch(p, 0, 3); }
+
+/// Flushes denormal results and inputs to zero on the calling thread (what
+/// Embree asks of its callers). Results change only where a value would be
+/// denormal, below 1.2e-38 in magnitude.
+inline void enable_flush_denormals_to_zero() {
+#if defined(__x86_64__)
+  _mm_setcsr(_mm_getcsr() | 0x8040u);  // FTZ | DAZ
+#else
+  uint64_t fpcr;
+  asm volatile("mrs %0, fpcr" : "=r"(fpcr));
+  asm volatile("msr fpcr, %0" : : "r"(fpcr | (uint64_t(1) << 24)));  // FZ
+#endif
+}
+
+}  // namespace pt
+
+#if defined(PT_ISA_NS)
+namespace pt {
 
 using vfloatK = xsimd::batch<float>;
 using vintK = xsimd::batch<int32_t>;
 using vuintK = xsimd::batch<uint32_t>;
 using vboolK = xsimd::batch_bool<float>;
-
-inline constexpr std::size_t kBvhWidth = 4;
-inline constexpr std::size_t kLanes = vfloatK::size;
-
-/// Bit mask of the true lanes of a 4-wide comparison (lane i -> bit i).
-/// xsimd 8.1 has no portable mask extraction.
-inline uint32_t movemask(vbool4 m) { return static_cast<uint32_t>(_mm_movemask_ps(m)); }
-
-using vbooluK = xsimd::batch_bool<uint32_t>;
 using vbooliK = xsimd::batch_bool<int32_t>;
 
-/// A K-wide integer comparison's result as a float mask.
-template <class M> inline vboolK as_float_mask(M m) {
+inline constexpr std::size_t kLanes = vfloatK::size;
+static_assert((kLanes == 4 || kLanes == 8 || kLanes == 16) && kLanes <= kMaxLanes);
+
+/// Bit mask of the true lanes of a K-wide comparison (lane i -> bit i).
+inline uint32_t lane_mask(vboolK m) {
 #if XSIMD_WITH_AVX512F
-  return vboolK(static_cast<__mmask16>(m));
+  return static_cast<uint32_t>(static_cast<__mmask16>(m));
+#elif XSIMD_WITH_AVX
+  return static_cast<uint32_t>(_mm256_movemask_ps(m));
 #else
-  using I = typename M::value_type;
-  return xsimd::bitwise_cast<vfloatK>(xsimd::select(m, xsimd::batch<I>(I(~0u)), xsimd::batch<I>(I(0)))) != vfloatK(0.0f);
+  return movemask(m);  // K = 4: vboolK is vbool4
 #endif
+}
+
+/// A K-wide integer comparison's result as a float mask. Reinterprets the
+/// mask register (full-width lanes, or an AVX-512 mask register): never
+/// through float values, whose all-ones lanes are NaN.
+template <class M> inline vboolK as_float_mask(M m) {
+  return xsimd::bool_cast(vbooliK(static_cast<typename M::register_type>(m)));
 }
 
 /// A K-wide float mask as an int32 mask.
-inline vbooliK as_int_mask(vboolK m) {
+inline vbooliK as_int_mask(vboolK m) { return xsimd::bool_cast(m); }
+
+/// Lane indices 0, 1, ..., K-1.
+inline vintK lane_index() {
+  alignas(64) static constexpr int32_t kIndex[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  return vintK::load_aligned(kIndex);
+}
+
+/// The K-wide mask whose lane i is bit i of `bits`.
+inline vboolK lanes_of_mask(uint32_t bits) {
 #if XSIMD_WITH_AVX512F
-  return vbooliK(static_cast<__mmask16>(m));
+  return vboolK(static_cast<__mmask16>(bits));
 #else
-  return xsimd::bitwise_cast<vintK>(xsimd::select(m, vfloatK(-1.0f), vfloatK(0.0f))) != vintK(0);
+  alignas(64) static constexpr int32_t kBit[16] = {1 << 0, 1 << 1, 1 << 2,  1 << 3,  1 << 4,  1 << 5,  1 << 6,  1 << 7,
+                                                  1 << 8, 1 << 9, 1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15};
+  return as_float_mask((vintK(static_cast<int32_t>(bits)) & vintK::load_aligned(kBit)) != vintK(0));
 #endif
 }
 
+/// The lanes i < n.
+inline vboolK first_lanes(std::size_t n) { return lanes_of_mask(lanes_below(n)); }
+
 /// base[index[i]] per lane, with the hardware gather where there is one
-/// (xsimd 8.1 gathers floats element by element). For random indices (the
-/// wavefront's surface and path lookups) it is as fast as element-wise loads
-/// here; for gathering the fields of contiguous structures (a ray packet) a
-/// transposition through the stack is several times faster on AMD's cores.
+/// (xsimd 8.1 gathers element by element). For random indices (the
+/// wavefront's surface and path lookups) it is as fast as element-wise loads;
+/// for the fields of contiguous structures (a ray packet) a transposition
+/// through the stack is several times faster on AMD's cores.
 inline vfloatK gather(const float* base, vintK index) {
 #if XSIMD_WITH_AVX512F
   return _mm512_i32gather_ps(index, base, 4);
@@ -91,119 +216,76 @@ inline vuintK gather(const uint32_t* base, vintK index) {
   return xsimd::bitwise_cast<vuintK>(gather(reinterpret_cast<const int32_t*>(base), index));
 }
 
+namespace simd_detail {
+#if XSIMD_WITH_AVX2 && !XSIMD_WITH_AVX512F
+/// For each 8-bit mask, the indices of its set lanes in order, 4 bits each.
+inline constexpr std::array<uint32_t, 256> kCompress8 = [] {
+  std::array<uint32_t, 256> table{};
+  for (uint32_t mask = 0; mask < 256; ++mask) {
+    uint32_t packed = 0, out = 0;
+    for (uint32_t lane = 0; lane < 8; ++lane)
+      if (mask >> lane & 1) packed |= lane << (4 * out++);
+    table[mask] = packed;
+  }
+  return table;
+}();
+#endif
+
+/// v's 32-bit lanes set in `mask` moved to the front, in order; the other
+/// lanes hold unspecified values of v.
+inline vintK compress(vintK v, uint32_t mask) {
+#if XSIMD_WITH_AVX512F
+  return _mm512_maskz_compress_epi32(static_cast<__mmask16>(mask), v);
+#elif XSIMD_WITH_AVX2
+  const __m256i packed = _mm256_set1_epi32(static_cast<int32_t>(kCompress8[mask & 0xFFu]));
+  const __m256i order = _mm256_and_si256(_mm256_srlv_epi32(packed, _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28)),
+                                         _mm256_set1_epi32(15));
+  return _mm256_permutevar8x32_epi32(v, order);
+#elif defined(__x86_64__)
+  return _mm_shuffle_epi8(v, _mm_load_si128(reinterpret_cast<const __m128i*>(kCompress4[mask & 15u].data())));
+#else
+  return vreinterpretq_s32_u8(vqtbl1q_u8(vreinterpretq_u8_s32(v), vld1q_u8(kCompress4[mask & 15u].data())));
+#endif
+}
+}  // namespace simd_detail
+
 /// Stores the lanes of v selected by `mask` contiguously at dst, lowest lane
 /// first (stream compaction). Writes K values: the caller has room for K at
 /// dst; only popcount(mask) of them are meaningful. Compresses in a register
 /// (the memory form of vcompressps is microcoded on AMD Zen 4 and 5).
-inline void store_compressed(float* dst, uint32_t mask, vfloatK v) {
-#if XSIMD_WITH_AVX512F
-  _mm512_storeu_ps(dst, _mm512_maskz_compress_ps(static_cast<__mmask16>(mask), v));
-#else
-  alignas(64) float lanes[kLanes];
-  v.store_aligned(lanes);
-  for (; mask; mask &= mask - 1) *dst++ = lanes[__builtin_ctz(mask)];
-#endif
+inline void store_compressed(int32_t* dst, uint32_t mask, vintK v) {
+  simd_detail::compress(v, mask).store_unaligned(dst);
 }
 inline void store_compressed(uint32_t* dst, uint32_t mask, vuintK v) {
-#if XSIMD_WITH_AVX512F
-  _mm512_storeu_si512(dst, _mm512_maskz_compress_epi32(static_cast<__mmask16>(mask), v));
-#else
-  alignas(64) uint32_t lanes[kLanes];
-  v.store_aligned(lanes);
-  for (; mask; mask &= mask - 1) *dst++ = lanes[__builtin_ctz(mask)];
-#endif
+  store_compressed(reinterpret_cast<int32_t*>(dst), mask, xsimd::bitwise_cast<vintK>(v));
 }
-
-/// Lane indices 0, 1, ..., K-1.
-inline vintK lane_index() {
-  alignas(64) int32_t idx[kLanes];
-  for (size_t i = 0; i < kLanes; ++i) idx[i] = static_cast<int32_t>(i);
-  return vintK::load_aligned(idx);
+inline void store_compressed(float* dst, uint32_t mask, vfloatK v) {
+  store_compressed(reinterpret_cast<int32_t*>(dst), mask, xsimd::bitwise_cast<vintK>(v));
 }
-
-/// Bit mask of the true lanes of a K-wide comparison (lane i -> bit i).
-inline uint32_t lane_mask(vboolK m) {
-#if XSIMD_WITH_AVX512F
-  return static_cast<uint32_t>(static_cast<__mmask16>(m));
-#elif XSIMD_WITH_AVX
-  return static_cast<uint32_t>(_mm256_movemask_ps(m));
-#else
-  return static_cast<uint32_t>(_mm_movemask_ps(m));
-#endif
-}
-
-/// The K-wide mask whose lane i is bit i of `bits`.
-inline vboolK lanes_of_mask(uint32_t bits) {
-#if XSIMD_WITH_AVX512F
-  return vboolK(static_cast<__mmask16>(bits));
-#else
-  alignas(64) int32_t one_bit[kLanes];
-  for (std::size_t i = 0; i < kLanes; ++i) one_bit[i] = int32_t(1u << i);
-  vintK selected = vintK(static_cast<int32_t>(bits)) & vintK::load_aligned(one_bit);
-  return xsimd::bool_cast(selected != vintK(0));
-#endif
-}
-
-#if XSIMD_WITH_AVX512F
-/// The upper and lower 256-bit halves of a 16-lane batch.
-inline __m256 upper_half(__m512 v) { return _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)); }
-#endif
 
 /// Smallest of the K lanes; the lanes must not be NaN.
 inline float reduce_min_k(vfloatK v) {
 #if XSIMD_WITH_AVX512F
-  __m256 a = _mm256_min_ps(_mm512_castps512_ps256(v), upper_half(v));
-  __m128 b = _mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
-  b = _mm_min_ps(b, _mm_movehl_ps(b, b));
-  return _mm_cvtss_f32(_mm_min_ss(b, _mm_movehdup_ps(b)));
+  __m256 a = _mm256_min_ps(_mm512_castps512_ps256(v), _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)));
+  return reduce_min(vfloat4(_mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1))));
+#elif XSIMD_WITH_AVX
+  return reduce_min(vfloat4(_mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1))));
 #else
-  alignas(64) float lanes[kLanes];
-  v.store_aligned(lanes);
-  float m = lanes[0];
-  for (std::size_t i = 1; i < kLanes; ++i) m = lanes[i] < m ? lanes[i] : m;
-  return m;
+  return reduce_min(v);  // K = 4: vfloatK is vfloat4
 #endif
 }
 
 /// Largest of the K lanes; the lanes must not be NaN.
 inline float reduce_max_k(vfloatK v) {
 #if XSIMD_WITH_AVX512F
-  __m256 a = _mm256_max_ps(_mm512_castps512_ps256(v), upper_half(v));
-  __m128 b = _mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
-  b = _mm_max_ps(b, _mm_movehl_ps(b, b));
-  return _mm_cvtss_f32(_mm_max_ss(b, _mm_movehdup_ps(b)));
+  __m256 a = _mm256_max_ps(_mm512_castps512_ps256(v), _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)));
+  return reduce_max(vfloat4(_mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1))));
+#elif XSIMD_WITH_AVX
+  return reduce_max(vfloat4(_mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1))));
 #else
-  alignas(64) float lanes[kLanes];
-  v.store_aligned(lanes);
-  float m = lanes[0];
-  for (std::size_t i = 1; i < kLanes; ++i) m = lanes[i] > m ? lanes[i] : m;
-  return m;
+  return reduce_max(v);
 #endif
 }
 
-/// Smallest of the four lanes; the lanes must not be NaN.
-inline float reduce_min(vfloat4 v) {
-  __m128 a = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-  a = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 0, 3, 2)));
-  return _mm_cvtss_f32(a);
-}
-
-/// Returns v unchanged, rounded to float: the compiler cannot contract a
-/// product passed through here into an FMA with what follows. Watertight edge
-/// functions a*b - c*d need both products rounded so that the two triangles
-/// sharing an edge compute exactly opposite values.
-inline vfloat4 keep_rounded(vfloat4 v) {
-  __m128 x = v;
-  asm("" : "+x"(x));
-  return x;
-}
-
-/// Hints the cache to load the 64-byte line holding p.
-inline void prefetch_l1(const void* p) { _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0); }
-
-/// Flushes denormal results and inputs to zero on the calling thread (what
-/// Embree asks of its callers). Results change only where a value would be
-/// denormal, below 1.2e-38 in magnitude.
-inline void enable_flush_denormals_to_zero() { _mm_setcsr(_mm_getcsr() | 0x8040u); }
-
 }  // namespace pt
+#endif  // PT_ISA_NS

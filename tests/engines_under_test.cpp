@@ -2,9 +2,8 @@
 #include "engines_under_test.h"
 
 #include "tests/reference/reference_renderer.h"
-#include "wavefront/megakernel_renderer.h"
-#include "wavefront/tracers.h"
-#include "wavefront/wavefront_renderer.h"
+#include "bvh/scene_bvh4.h"
+#include "wavefront/engines.h"
 
 namespace pt::test {
 
@@ -15,12 +14,12 @@ const std::vector<EngineUnderTest>& engines_under_test() {
       {"wavefront",
        [](const Scene& s, const Camera& c, const RenderSettings& rs) {
          SceneBvh4 bvh(s);
-         return wf::render_wavefront(s, c, rs, wf::Bvh4Tracer<>{bvh});
+         return wf::render_wavefront(s, c, rs, wf::Tracing{.bvh4 = &bvh});
        }},
       {"megakernel",
        [](const Scene& s, const Camera& c, const RenderSettings& rs) {
          SceneBvh4 bvh(s);
-         return wf::render_megakernel(s, c, rs, wf::Bvh4Tracer<>{bvh});
+         return wf::render_megakernel(s, c, rs, wf::Tracing{.bvh4 = &bvh});
        }},
   };
   return engines;

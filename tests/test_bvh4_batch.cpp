@@ -1,5 +1,6 @@
-// The batched entry points of SceneBvh4: every batch length 1..3*kLanes+1
-// answers like the single-ray query; entries past the batch and lanes left out
+// The batched entry points of SceneBvh4 at the instruction-set level in use:
+// every batch length 1..3K+1 (K = its packet width) answers like the
+// single-ray query; entries past the batch and lanes left out
 // of a packet are untouched (and their rays unread); rays that are not
 // traceable or that disagree on direction signs inside a packet; spheres; the
 // watertight form; incoherent batches, reordered or not.
@@ -17,6 +18,9 @@ namespace pt::test {
 namespace {
 
 const Hit kSentinel{-7.0f, -7.0f, -7.0f, 0xDEADBEEFu};
+
+/// K: the packet width of the level in use.
+size_t packet_lanes() { return isa_lanes(active_isa()); }
 
 bool is_sentinel(const Hit& h) { return std::memcmp(&h, &kSentinel, sizeof(Hit)) == 0; }
 
@@ -36,12 +40,12 @@ void expect_batches_match_single_rays(const Scene& s, const Bvh4Options& options
   std::vector<Ray> rays = test_rays(s);
   float scale = scene_scale(s);
   int hits_in_first_batches = 0;
-  for (size_t i = 0; i < 3 * kLanes + 1; ++i) {
+  for (size_t i = 0; i < 3 * packet_lanes() + 1; ++i) {
     Hit h;
     hits_in_first_batches += bvh.intersect(rays[i], h);
   }
-  EXPECT_GT(hits_in_first_batches, int(kLanes));  // the comparisons below are not all misses
-  for (size_t n = 1; n <= 3 * kLanes + 1; ++n)
+  EXPECT_GT(hits_in_first_batches, int(packet_lanes()));  // the comparisons below are not all misses
+  for (size_t n = 1; n <= 3 * packet_lanes() + 1; ++n)
     for (size_t first : {size_t{0}, size_t{384}}) {  // coherent camera rays, then random rays
       std::vector<Hit> hits(n + 8, kSentinel);
       bvh.intersect(std::span<const Ray>(rays.data() + first, n), std::span<Hit>(hits.data(), n));
@@ -68,18 +72,18 @@ TEST(Bvh4Batch, WatertightFormMatchesSingleRays) {
 TEST(Bvh4Batch, LanesLeftOutAreNeitherReadNorWritten) {
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
-  std::vector<Ray> good = camera_rays(s, 8, int(kLanes), 0.3f);
+  std::vector<Ray> good = camera_rays(s, 8, int(packet_lanes()), 0.3f);
   std::mt19937 rng(5);
   for (int trial = 0; trial < 200; ++trial) {
-    uint32_t lanes = static_cast<uint32_t>(rng()) & (kLanes == 32 ? ~0u : (1u << kLanes) - 1);
-    std::vector<Ray> rays(kLanes);
-    std::vector<Hit> hits(kLanes, kSentinel);
-    for (size_t i = 0; i < kLanes; ++i) {
+    uint32_t lanes = static_cast<uint32_t>(rng()) & lanes_below(packet_lanes());
+    std::vector<Ray> rays(packet_lanes());
+    std::vector<Hit> hits(packet_lanes(), kSentinel);
+    for (size_t i = 0; i < packet_lanes(); ++i) {
       rays[i] = good[(trial * 7 + i * 13) % good.size()];
       if (!(lanes >> i & 1)) rays[i] = Ray{float3(NAN), NAN, float3(NAN), NAN};  // garbage if read
     }
     bvh.intersect_packet(rays.data(), hits.data(), lanes);
-    for (size_t i = 0; i < kLanes; ++i) {
+    for (size_t i = 0; i < packet_lanes(); ++i) {
       if (!(lanes >> i & 1)) {
         EXPECT_TRUE(is_sentinel(hits[i])) << "lane " << i << " written";
         continue;
@@ -94,7 +98,7 @@ TEST(Bvh4Batch, LanesLeftOutAreNeitherReadNorWritten) {
 TEST(Bvh4Batch, UntraceableRaysInAPacketMissAndSpareTheOthers) {
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
-  const size_t n = std::max<size_t>(kLanes, 16);  // one packet on AVX-512, four with SSE
+  const size_t n = std::max<size_t>(packet_lanes(), 16);  // one packet on AVX-512, four with SSE
   std::vector<Ray> rays = uniform_random_rays(s, n, 3);  // from inside the room
   rays[1].org.x = NAN;
   rays[2].dir.y = INFINITY;
@@ -120,7 +124,7 @@ TEST(Bvh4Batch, SpheresAreFoundByPackets) {
   SceneBvh4 bvh(s);
   std::vector<Ray> rays;
   for (const Sphere& sphere : s.spheres)
-    for (size_t i = 0; i < kLanes; ++i) {  // rays from the camera side straight at the sphere
+    for (size_t i = 0; i < packet_lanes(); ++i) {  // rays from the camera side straight at the sphere
       float3 target = sphere.center + float3{0.1f * float(i % 4) - 0.15f, 0.1f * float(i / 4) - 0.15f, 0.0f} * sphere.radius;
       float3 from = sphere.center + float3{0.0f, 0.0f, 4.0f * sphere.radius};
       rays.push_back({from, 0.0f, normalize(target - from), kInfinity});
@@ -170,7 +174,7 @@ TEST(Bvh4Batch, IncoherentBatchesMatchSingleRays) {
   Scene sphere = tessellated_sphere(4, {0, 0, 0}, 1.0f);
   std::vector<Ray> rays = uniform_random_rays(sphere, 2000, 9);
   std::vector<size_t> lengths = {0, 2000};
-  for (size_t n = 1; n <= 3 * kLanes + 1; ++n) lengths.push_back(n);
+  for (size_t n = 1; n <= 3 * packet_lanes() + 1; ++n) lengths.push_back(n);
   expect_incoherent_batches_match(sphere, rays, lengths);
   Scene room = built_in_scene();
   expect_incoherent_batches_match(room, uniform_random_rays(room, 3000, 8), {3000});
@@ -195,13 +199,13 @@ TEST(Bvh4Batch, PacketsMatchSingleRaysOnSharedScenes) {
   }
 }
 
-/// occluded_packet over runs of kLanes rays (the last run partial) answers
+/// occluded_packet over runs of packet_lanes() rays (the last run partial) answers
 /// like occluded() per ray, and reports no lane outside `lanes`.
 void expect_occlusion_packets_match(const SceneBvh4& bvh, const std::vector<Ray>& rays, const char* what) {
   int blocked_total = 0;
-  for (size_t first = 0; first < rays.size(); first += kLanes) {
-    size_t n = std::min(kLanes, rays.size() - first);
-    uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+  for (size_t first = 0; first < rays.size(); first += packet_lanes()) {
+    size_t n = std::min(packet_lanes(), rays.size() - first);
+    uint32_t all = lanes_below(n);
     for (uint32_t lanes : {all, all & 0x5555u, all & 0xF0F0u}) {
       uint32_t blocked = bvh.occluded_packet(&rays[first], lanes);
       EXPECT_EQ(blocked & ~lanes, 0u) << what << ": lanes outside the packet reported";

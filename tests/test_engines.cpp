@@ -16,9 +16,7 @@
 #include "io/camera_setup.h"
 #include "test_support.h"
 #include "tests/reference/reference_renderer.h"
-#include "wavefront/megakernel_renderer.h"
-#include "wavefront/tracers.h"
-#include "wavefront/wavefront_renderer.h"
+#include "wavefront/engines.h"
 
 namespace pt {
 namespace {
@@ -198,7 +196,7 @@ TEST(Determinism, ThreadCountAndWaveSizeDoNotChangeTheImage) {
   rs.adaptive_tolerance = 0.05f;  // adaptive on: the active set changes between passes
   Camera cam = resolve_camera(scene, rs.width, rs.height);
   reference::ReferenceAccel accel(scene, reference::AccelMode::kBvh);
-  wf::Bvh2Tracer tracer{accel};
+  wf::Tracing tracer{.accel = &accel};
 
   rs.threads = 1;
   Film base = wf::render_wavefront(scene, cam, rs, tracer, {4096}).film;

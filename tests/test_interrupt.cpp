@@ -18,9 +18,7 @@
 #include "io/scene_error.h"
 #include "test_support.h"
 #include "tests/reference/reference_accel.h"
-#include "wavefront/megakernel_renderer.h"
-#include "wavefront/tracers.h"
-#include "wavefront/wavefront_renderer.h"
+#include "wavefront/engines.h"
 
 extern char** environ;
 
@@ -43,7 +41,7 @@ struct Fixture {
     camera = resolve_camera(scene, rs.width, rs.height);
   }
   RenderOutput render(const RenderControl& control) {
-    return wf::render_wavefront(scene, camera, rs, wf::Bvh2Tracer{accel}, {256}, control);
+    return wf::render_wavefront(scene, camera, rs, wf::Tracing{.accel = &accel}, {256}, control);
   }
 };
 

@@ -12,9 +12,8 @@
 #include "stability_scenes.h"
 #include "test_support.h"
 #include "tests/reference/reference_accel.h"
+#include "wavefront/engines.h"
 #include "wavefront/streams.h"
-#include "wavefront/tracers.h"
-#include "wavefront/wavefront_renderer.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define PT_ADDRESS_SANITIZER 1
@@ -70,7 +69,7 @@ cli::MemoryReport wavefront_report(int w, int h) {
   reference::ReferenceAccel accel(scene, reference::AccelMode::kBvh);
   wf::StageStats stages;
   RenderOutput out =
-      wf::render_wavefront(scene, test::camera_above_floor(), rs, wf::Bvh2Tracer{accel}, {}, {}, &stages);
+      wf::render_wavefront(scene, test::camera_above_floor(), rs, wf::Tracing{.accel = &accel}, {}, {}, &stages);
   cli::MemoryReport r;
   cli::add_scene_memory(r, scene);
   cli::EngineFootprint engine{cli::Engine::kWavefront, "bvh2", {accel.bytes(), accel.bytes()}, stages.queue_bytes};

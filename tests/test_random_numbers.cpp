@@ -17,8 +17,10 @@
 
 #include <gtest/gtest.h>
 
+#include "kernels/isa.h"
 #include "kernels/random.h"
 #include "kernels/sample_dimensions.h"
+#include "lane_probes.h"
 #include "statistics.h"
 
 namespace pt {
@@ -156,25 +158,23 @@ TEST(RandomNumbers, ValuesAreMultiplesOfTwoToTheMinus24BelowOne) {
   }
 }
 
-// SIMD stages must draw exactly the numbers the scalar reference draws.
+// SIMD stages must draw exactly the numbers the scalar reference draws (at
+// the instruction-set level in use).
 TEST(RandomNumbers, SimdLanesEqualTheScalarNumbers) {
-  alignas(64) uint32_t pixels[kLanes], samples[kLanes], keys[kLanes];
-  alignas(64) float values[kLanes];
+  const test::LaneProbes& probes = test::lane_probes(active_isa());
   const uint32_t dk = dimension_key(2, dims::light_dim(1));
-  for (uint32_t base = 0; base < 100000; base += kLanes) {
-    for (size_t l = 0; l < kLanes; ++l) {
-      pixels[l] = base + uint32_t(l) * 7;
-      samples[l] = base / 3 + uint32_t(l);
-    }
-    vuintK pk = pixel_key<vuintK>(kSeed, vuintK::load_aligned(pixels));
-    vuintK sk = sample_key<vuintK>(vuintK::load_aligned(samples));
-    pk.store_aligned(keys);
-    random_float<vuintK, vfloatK>(pk, sk, dk).store_aligned(values);
-    for (size_t l = 0; l < kLanes; ++l) {
-      uint32_t scalar_pk = pixel_key<uint32_t>(kSeed, pixels[l]);
-      ASSERT_EQ(keys[l], scalar_pk);
-      ASSERT_EQ(values[l], (random_float<uint32_t, float>(scalar_pk, sample_key<uint32_t>(samples[l]), dk)));
-    }
+  const size_t n = 100000 / probes.lanes * probes.lanes;
+  std::vector<uint32_t> pixels(n), samples(n), keys(n);
+  std::vector<float> values(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    pixels[i] = i / uint32_t(probes.lanes) * uint32_t(probes.lanes) + (i % uint32_t(probes.lanes)) * 7;
+    samples[i] = i / 3;
+  }
+  probes.random_numbers(kSeed, pixels.data(), samples.data(), dk, n, keys.data(), values.data());
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t scalar_pk = pixel_key<uint32_t>(kSeed, pixels[i]);
+    ASSERT_EQ(keys[i], scalar_pk) << "lane " << i % probes.lanes;
+    ASSERT_EQ(values[i], (random_float<uint32_t, float>(scalar_pk, sample_key<uint32_t>(samples[i]), dk)));
   }
 }
 

@@ -10,10 +10,13 @@
 // Each runs in about 30 ms.
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "kernels/isa.h"
 #include "kernels/sampling.h"
+#include "lane_probes.h"
 #include "sampling_histogram.h"
 #include "statistics.h"
 
@@ -104,25 +107,26 @@ TEST(Warps, UnitLengthAndInTheirDomainAtTheEdgesOfTheSquare) {
     }
 }
 
-// The SIMD instantiation (vfloatK) draws the directions the scalar one draws,
-// to within the difference of xsimd's and libm's sin/cos.
+// The SIMD instantiation (vfloatK, at the instruction-set level in use) draws
+// the directions the scalar one draws, to within the difference of xsimd's
+// and libm's sin/cos.
 TEST(Warps, SimdLanesMatchTheScalarInstantiation) {
+  const test::LaneProbes& probes = test::lane_probes(active_isa());
   UniformSource u(5);
-  alignas(64) float a[kLanes], b[kLanes], out[3][kLanes];
-  for (int rep = 0; rep < 4096; ++rep) {
-    for (size_t l = 0; l < kLanes; ++l) { a[l] = u.next(); b[l] = u.next(); }
-    vfloatK va = vfloatK::load_aligned(a), vb = vfloatK::load_aligned(b);
-    for (int w = 0; w < 3; ++w) {
-      Vec3T<vfloatK> v = w == 0 ? sample_uniform_hemisphere(va, vb)
-                                : (w == 1 ? sample_cosine_hemisphere(va, vb) : sample_uniform_sphere(va, vb));
-      v.x.store_aligned(out[0]); v.y.store_aligned(out[1]); v.z.store_aligned(out[2]);
-      for (size_t l = 0; l < kLanes; ++l) {
-        Vec3T<float> s = w == 0 ? sample_uniform_hemisphere(a[l], b[l])
-                                : (w == 1 ? sample_cosine_hemisphere(a[l], b[l]) : sample_uniform_sphere(a[l], b[l]));
-        ASSERT_NEAR(out[0][l], s.x, 2e-6f) << "warp " << w;
-        ASSERT_NEAR(out[1][l], s.y, 2e-6f) << "warp " << w;
-        ASSERT_NEAR(out[2][l], s.z, 2e-6f) << "warp " << w;
-      }
+  const size_t n = 4096 * probes.lanes;
+  std::vector<float> a(n), b(n), x(n), y(n), z(n);
+  for (size_t i = 0; i < n; ++i) {
+    a[i] = u.next();
+    b[i] = u.next();
+  }
+  for (int w = 0; w < 3; ++w) {
+    probes.warp(w, a.data(), b.data(), n, x.data(), y.data(), z.data());
+    for (size_t i = 0; i < n; ++i) {
+      Vec3T<float> s = w == 0 ? sample_uniform_hemisphere(a[i], b[i])
+                              : (w == 1 ? sample_cosine_hemisphere(a[i], b[i]) : sample_uniform_sphere(a[i], b[i]));
+      ASSERT_NEAR(x[i], s.x, 2e-6f) << "warp " << w;
+      ASSERT_NEAR(y[i], s.y, 2e-6f) << "warp " << w;
+      ASSERT_NEAR(z[i], s.z, 2e-6f) << "warp " << w;
     }
   }
 }

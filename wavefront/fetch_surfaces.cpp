@@ -14,7 +14,7 @@ Vec3T<vfloatK> gather3(const float* f, vintK index) {
 }
 
 /// Overwrites the sphere lanes with the scalar reconstruction.
-void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0, uint64_t lanes,
+void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0, uint32_t lanes,
                    SurfaceBatch& s) {
   alignas(64) float f[10][kLanes];
   alignas(64) int32_t material[kLanes];
@@ -27,7 +27,7 @@ void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue&
   s.offset.store_aligned(f[9]);
   s.material.store_aligned(material);
   for (; lanes; lanes &= lanes - 1) {
-    size_t lane = static_cast<size_t>(__builtin_ctzll(lanes)), i = i0 + lane;
+    size_t lane = static_cast<size_t>(__builtin_ctz(lanes)), i = i0 + lane;
     SurfacePoint sp = surface_at(ctx.scene, rays.ray(i), Hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
     const float3* src[3] = {&sp.p, &sp.ng, &sp.ns};
     for (int v = 0; v < 3; ++v)
@@ -68,7 +68,7 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.ns = ts.ns;
   s.offset = ts.offset;
   s.material = gather(tris.material, tri);
-  if (uint64_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
+  if (uint32_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
   return s;
 }
 

@@ -28,7 +28,7 @@ void intersect_closest(const Tracer& tracer, const RayQueue& rays, HitQueue& hit
     for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
       size_t n = std::min(kLanes, rays.size - i0);
       for (size_t l = 0; l < n; ++l) packet[l] = rays.ray(i0 + l);
-      tracer.intersect_packet(packet, found, n == 32 ? ~0u : (1u << n) - 1, tests);
+      tracer.intersect_packet(packet, found, lanes_below(n), tests);
       for (size_t l = 0; l < n; ++l) store_hit(hits, i0 + l, found[l]);
     }
     return;

@@ -1,6 +1,6 @@
 // Appends the active lanes of K-wide results to a queue (stream compaction):
-// the values are stored to small aligned arrays, then copied lane by lane for
-// the set bits of the mask. Queue order follows lane order.
+// one in-register compress and one store per field (store_compressed,
+// kernels/simd.h). Queue order follows lane order.
 #pragma once
 
 #include <cstdint>
@@ -25,7 +25,7 @@ struct LaneUints {
 
 /// Calls f(lane) for each set bit of mask, lowest first.
 template <class F> inline void for_each_lane(uint32_t mask, F&& f) {
-  for (; mask; mask &= mask - 1) f(static_cast<size_t>(__builtin_ctzll(mask)));
+  for (; mask; mask &= mask - 1) f(static_cast<size_t>(__builtin_ctz(mask)));
 }
 
 /// Makes room for K more items, the most one compressed append can write.

@@ -39,7 +39,7 @@ vfloatK dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z
 /// Emission the rays see, and under MIS the light their BSDF sample found
 /// (scalar: only lanes that hit emitters, or escaped where the sky counts).
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
-                  uint64_t lanes, PathState& paths) {
+                  uint32_t lanes, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
   // Under MIS the previous vertex's BSDF sample competes with light samples
   // (unless it was the final, emission-only bounce).
@@ -195,7 +195,7 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
     prefetch_surfaces(ctx, hits, i0 + kLanes, true);       // vertices one chunk ahead
     SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
     vboolK emits = s.hit && as_float_mask(gather(mats.emits.data(), s.material) != vintK(0));
-    uint64_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);
+    uint32_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);
     if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
     if (!direct && !samples_bsdf) continue;
 

@@ -1,7 +1,8 @@
 // Structure-of-arrays streams whose fields are declared once, as an X-macro
-// list, and expanded into 64-byte-aligned arrays (padded to the SIMD lane
-// count, so kernels never mask tails), a one-item view struct, and get / set /
-// push. Every queue and the path state are built with PT_SOA_STREAM.
+// list, and expanded into 64-byte-aligned arrays (padded to the widest SIMD
+// lane count, so kernels never mask tails at any level), a one-item view
+// struct, and get / set / push. Every queue and the path state are built with
+// PT_SOA_STREAM.
 #pragma once
 
 #include <cstddef>
@@ -26,7 +27,8 @@ struct AlignedAllocator {
 
 template <class T> using AlignedVector = std::vector<T, AlignedAllocator<T>>;
 
-inline size_t round_up_to_lanes(size_t n) { return (n + kLanes - 1) / kLanes * kLanes; }
+/// n rounded up to a whole number of the widest batches (kMaxLanes).
+inline size_t round_up_to_lanes(size_t n) { return (n + kMaxLanes - 1) / kMaxLanes * kMaxLanes; }
 
 }  // namespace pt::wf
 
@@ -64,7 +66,7 @@ inline size_t round_up_to_lanes(size_t n) { return (n + kLanes - 1) / kLanes * k
   void set(size_t i, const Item& item) { FIELDS(PT_SOA_SET) }                        \
   /** Appends, growing if the caller's reservation was short. */                    \
   void push(const Item& item) {                                                      \
-    if (size >= capacity) reserve(2 * capacity + ::pt::kLanes);                      \
+    if (size >= capacity) reserve(2 * capacity + ::pt::kMaxLanes);                   \
     set(size++, item);                                                               \
   }                                                                                  \
   size_t bytes() const { return 0 FIELDS(PT_SOA_BYTES); }

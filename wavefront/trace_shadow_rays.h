@@ -24,7 +24,7 @@ void trace_shadow_rays(const Tracer& tracer, const ShadowQueue& shadows, PathSta
     for (size_t i0 = 0; i0 < shadows.size; i0 += kLanes) {
       size_t n = std::min(kLanes, shadows.size - i0);
       for (size_t l = 0; l < n; ++l) packet[l] = shadows.ray(i0 + l);
-      uint32_t lanes = n == 32 ? ~0u : (1u << n) - 1;
+      uint32_t lanes = lanes_below(n);
       uint32_t blocked = tracer.occluded_packet(packet, lanes, tests);
       for (uint32_t m = lanes & ~blocked; m; m &= m - 1) add(i0 + __builtin_ctz(m));
     }

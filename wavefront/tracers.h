@@ -3,7 +3,7 @@
 // primitive tests when the tracer counts them.
 #pragma once
 
-#include "bvh/scene_bvh4.h"
+#include "bvh/scene_bvh4_queries.h"
 #include "tests/reference/reference_accel.h"
 
 namespace pt::wf {
@@ -18,7 +18,7 @@ struct Bvh4Tracer {
     if constexpr (kCount) {
       for (uint32_t m = lanes; m; m &= m - 1) intersect(rays[__builtin_ctz(m)], hits[__builtin_ctz(m)], tests);
     } else {
-      accel.intersect_packet(rays, hits, lanes);
+      bvh4_queries::intersect_packet(accel, rays, hits, lanes);
     }
   }
   /// The lanes of `lanes` whose rays are blocked, as one SIMD packet.
@@ -29,27 +29,27 @@ struct Bvh4Tracer {
         if (occluded(rays[__builtin_ctz(m)], tests)) blocked |= 1u << __builtin_ctz(m);
       return blocked;
     } else {
-      return accel.occluded_packet(rays, lanes);
+      return bvh4_queries::occluded_packet(accel, rays, lanes);
     }
   }
   bool intersect(const Ray& r, Hit& h, uint64_t& tests) const {
     if constexpr (kCount) {
       TraversalCounters c;
-      bool found = accel.intersect(r, h, c);
+      bool found = bvh4_queries::intersect(accel, r, h, c);
       tests += c.primitives;
       return found;
     } else {
-      return accel.intersect(r, h);
+      return bvh4_queries::intersect(accel, r, h);
     }
   }
   bool occluded(const Ray& r, uint64_t& tests) const {
     if constexpr (kCount) {
       TraversalCounters c;
-      bool blocked = accel.occluded(r, c);
+      bool blocked = bvh4_queries::occluded(accel, r, c);
       tests += c.primitives;
       return blocked;
     } else {
-      return accel.occluded(r);
+      return bvh4_queries::occluded(accel, r);
     }
   }
 };

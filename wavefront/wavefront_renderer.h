@@ -1,20 +1,17 @@
-// The wavefront engine: paths in waves of SoA queues through separate stages
-// (run_wave.h), waves spread over threads, passes and accumulation shared
-// with the megakernel (pass_driver.h).
+// The wavefront engine over a tracer: paths in waves of SoA queues through
+// separate stages (run_wave.h), waves spread over threads, passes and
+// accumulation shared with the megakernel (pass_driver.h). Compiled per
+// instruction-set level; engines.h is the entry point.
 #pragma once
 
 #include <cstddef>
 
+#include "engines.h"
 #include "kernels/render_job.h"
 #include "pass_driver.h"
 #include "run_wave.h"
 
 namespace pt::wf {
-
-struct WavefrontOptions {
-  size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
-  bool packets = true;       ///< SIMD packets for camera rays and first-hit shadow rays
-};
 
 /// Renders with `tracer` (intersect / occluded with a test counter). If
 /// `stage_stats` is given, it receives the per-stage statistics.

@@ -30,9 +30,9 @@ constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};  
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
-  std::string engine, bvh, bounces, direct, sampler, rr_mode;
+  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa;
   std::vector<std::string> resolution, adaptive, region;
-  bool hemisphere = false, normals = false, cs184 = false;
+  bool hemisphere = false, normals = false, cs184 = false, list_isa = false;
 };
 
 /// Converts the raw values that were given into `o`, keeping the first error.
@@ -100,6 +100,13 @@ void Converter::convert(const RawValues& raw) {
   choice("--direct", "direct light estimator", raw.direct, kDirectModes, s.direct);
   choice("--sampler", "sampler", raw.sampler, kSamplers, s.sampler);
   choice("--rr-mode", "Russian roulette mode", raw.rr_mode, kRouletteModes, s.roulette);
+  if (error.empty()) {  // the level in use: --isa, else the environment's PT_ISA, else the widest
+    try {
+      o_.isa = app_.count("--isa") > 0 ? resolve_isa(raw.isa) : active_isa();
+    } catch (const IsaError& e) {
+      error = (app_.count("--isa") > 0 ? "--isa: " : "") + std::string(e.what());
+    }
+  }
   if (raw.hemisphere) {
     if (error.empty() && app_.count("--direct") > 0 && s.direct != DirectLighting::kHemisphere)
       error = "-H and --direct " + raw.direct + " contradict each other";
@@ -242,7 +249,20 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   app.add_flag("--no-packets", o.no_packets, "Wavefront: trace every ray on its own (no SIMD packets)");
   app.add_flag("--count-tests", o.count_tests,
                "Count primitive intersection tests per ray for the report (BVH4 engines run slower)");
+  app.add_option("--isa", raw.isa,
+                 "SIMD instruction set of the engines: auto (the widest this CPU runs), sse4.2, avx2, avx512 or neon; "
+                 "also PT_ISA in the environment; auto")
+      ->type_name("NAME");
+  app.add_flag("--list-isa", raw.list_isa, "List the instruction sets compiled in, whether this CPU runs them, and exit");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
+}
+
+/// --list-isa: one line per compiled level.
+void print_isa_list() {
+  Isa best = best_isa();
+  for (Isa isa : compiled_isas())
+    std::cout << isa_name(isa) << " " << isa_lanes(isa) << " lanes "
+              << (cpu_supports(isa) ? "supported" : "unsupported") << (isa == best ? " auto" : "") << "\n";
 }
 
 }  // namespace
@@ -268,6 +288,10 @@ ParseResult parse_command_line(int argc, char** argv) {
     return {std::nullopt, 2};
   }
 
+  if (raw.list_isa) {
+    print_isa_list();
+    return {std::nullopt, 0};
+  }
   Converter converter(app, o);
   converter.convert(raw);
   std::string err = converter.error.empty() ? validate(o) : converter.error;

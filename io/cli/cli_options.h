@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/isa.h"
 #include "kernels/render_settings.h"
 
 namespace pt::cli {
@@ -35,9 +36,11 @@ struct Options {
   bool memory = false;               ///< --memory: print bytes per structure and peak RSS
   bool no_packets = false;           ///< --no-packets: wavefront traces rays one by one
   bool count_tests = false;          ///< --count-tests: count primitive tests (slower)
+  Isa isa = Isa::kSse42;             ///< --isa, else PT_ISA, else the widest level the CPU runs
 };
 
-/// Outcome of parsing: options to run with, or an exit code (0 after --help).
+/// Outcome of parsing: options to run with, or an exit code (0 after --help
+/// and --list-isa).
 struct ParseResult {
   std::optional<Options> options;
   int exit_code = 0;

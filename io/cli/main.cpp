@@ -78,9 +78,12 @@ std::filesystem::path default_output(const cli::Options& o, const Scene& scene) 
 void print_report(const cli::Options& o, const RenderOutput& out) {
   const RenderStats& st = out.stats;
   double mrays = st.seconds > 0 ? st.rays() / st.seconds / 1e6 : 0.0;
-  std::printf("Rendered in %.3f s with the %s engine (%s); %llu rays traced (camera %llu, bounce %llu, "
+  std::string kernels = o.engine == cli::Engine::kReference
+                            ? "scalar"
+                            : std::string(isa_name(o.isa)) + ", " + std::to_string(isa_lanes(o.isa)) + " lanes";
+  std::printf("Rendered in %.3f s with the %s engine (%s, %s); %llu rays traced (camera %llu, bounce %llu, "
               "shadow %llu); %.2f million rays per second; ",
-              st.seconds, cli::engine_name(o.engine), cli::accel_name(o.accel),
+              st.seconds, cli::engine_name(o.engine), cli::accel_name(o.accel), kernels.c_str(),
               static_cast<unsigned long long>(st.rays()), static_cast<unsigned long long>(st.camera_rays),
               static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays);
   if (st.intersection_tests > 0 || st.rays() == 0)
@@ -182,6 +185,7 @@ int main(int argc, char** argv) {
   pt::cli::ParseResult parsed = pt::cli::parse_command_line(argc, argv);
   if (!parsed.options) return parsed.exit_code;
   try {
+    pt::set_active_isa(parsed.options->isa);
     return run(*parsed.options);
   } catch (const pt::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -6,9 +6,7 @@
 #include "io/scene_error.h"
 #include "stage_report.h"
 #include "tests/reference/reference_renderer.h"
-#include "wavefront/megakernel_renderer.h"
-#include "wavefront/tracers.h"
-#include "wavefront/wavefront_renderer.h"
+#include "wavefront/engines.h"
 
 namespace pt::cli {
 
@@ -28,16 +26,15 @@ EngineRunner::EngineRunner(const Options& o, const Scene& scene, const Camera& c
 
 namespace {
 
-/// Runs a pass-based engine on `tracer`.
-template <class Tracer>
+/// Runs a pass-based engine.
 RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camera& camera, const RenderSettings& rs,
-                               const RenderControl& control, const Tracer& tracer, size_t* queue_bytes) {
-  if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracer, control);
+                               const RenderControl& control, const wf::Tracing& tracing, size_t* queue_bytes) {
+  if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracing, control);
   wf::StageStats stages;
   wf::WavefrontOptions options;
   options.packets = !o.no_packets;
-  RenderOutput out = wf::render_wavefront(scene, camera, rs, tracer, options, control, &stages);
-  if (o.stats) print_stage_stats(stages, out.stats);
+  RenderOutput out = wf::render_wavefront(scene, camera, rs, tracing, options, control, &stages);
+  if (o.stats) print_stage_stats(stages, out.stats, o.isa);
   if (queue_bytes) *queue_bytes = stages.queue_bytes;
   return out;
 }
@@ -48,11 +45,8 @@ RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl&
   if (queue_bytes) *queue_bytes = 0;
   if (options_.engine == Engine::kReference)
     return reference::render_reference(scene_, *reference_accel_, camera_, rs, control);
-  if (!bvh4_) return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh2Tracer{*reference_accel_},
-                                         queue_bytes);
-  if (options_.count_tests)  // count primitive tests only when asked: it costs time
-    return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<true>{*bvh4_}, queue_bytes);
-  return render_pass_based(options_, scene_, camera_, rs, control, wf::Bvh4Tracer<false>{*bvh4_}, queue_bytes);
+  wf::Tracing tracing{.bvh4 = bvh4_.get(), .accel = reference_accel_.get(), .count_tests = options_.count_tests};
+  return render_pass_based(options_, scene_, camera_, rs, control, tracing, queue_bytes);
 }
 
 }  // namespace pt::cli

@@ -2,6 +2,7 @@
 #include "stage_report.h"
 
 #include <cstdio>
+#include <string>
 
 namespace pt::cli {
 namespace {
@@ -15,9 +16,10 @@ void rate_line(const char* what, uint64_t rays, double seconds) {
 
 }  // namespace
 
-void print_stage_stats(const wf::StageStats& s, const RenderStats& totals) {
+void print_stage_stats(const wf::StageStats& s, const RenderStats& totals, Isa isa) {
   double busy = 0;
   for (double t : s.seconds) busy += t;
+  std::printf("kernels: %s, %zu lanes\n", std::string(isa_name(isa)).c_str(), isa_lanes(isa));
   std::printf("stage                             thread-seconds   share\n");
   for (int i = 0; i < static_cast<int>(wf::Stage::kCount); ++i)
     std::printf("  %-30s %12.3f  %5.1f%%\n", wf::kStageNames[i], s.seconds[i], busy > 0 ? 100 * s.seconds[i] / busy : 0);

@@ -1,12 +1,14 @@
-// --stats: the wavefront's time per stage, rays per second by ray type and
+// --stats: the instruction set the kernels ran at, the wavefront's time per stage, rays per second by ray type and
 // paths alive per bounce.
 #pragma once
 
+#include "kernels/isa.h"
 #include "kernels/render_stats.h"
 #include "wavefront/stage_stats.h"
 
 namespace pt::cli {
 
-void print_stage_stats(const wf::StageStats& stages, const RenderStats& totals);
+/// `isa`: the level the engine ran at.
+void print_stage_stats(const wf::StageStats& stages, const RenderStats& totals, Isa isa);
 
 }  // namespace pt::cli

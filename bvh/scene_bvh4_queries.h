@@ -1,0 +1,117 @@
+// The queries of SceneBvh4 as inline functions, for code compiled once per
+// instruction-set level: bvh4_queries_isa.cpp wraps them into the level's
+// table, and the engines' hot loops call them with no dispatch. Spheres are
+// tested after the BVH walk (closest hit) or before it (any hit).
+#pragma once
+
+#include <bit>
+#include <cstdint>
+
+#include "bvh4_packet.h"
+#include "bvh4_traverse.h"
+#include "kernels/sphere_intersect.h"
+#include "scene_bvh4.h"
+
+#ifndef PT_ISA_NS
+#error "scene_bvh4_queries.h is for code compiled once per instruction-set level"
+#endif
+
+namespace pt::bvh4_queries {
+
+template <class C> inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit, C& c) {
+  const Bvh4& bvh = s.bvh();
+  bool found = bvh.form == TriangleForm::kWatertight ? bvh4_intersect<TriangleForm::kWatertight>(bvh, ray, hit, c)
+                                                     : bvh4_intersect<TriangleForm::kMollerTrumbore>(bvh, ray, hit, c);
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  if (spheres.empty() || !ray_is_traceable(ray)) return found;
+  c.primitives_tested(static_cast<uint32_t>(spheres.size()));
+  for (uint32_t i = 0; i < spheres.size(); ++i) {
+    float t;
+    if (!intersect_sphere(ray.org, ray.dir, ray.tmin, hit.t, spheres[i].center, spheres[i].radius, t)) continue;
+    hit = {t, 0.0f, 0.0f, sphere_prim_id(i)};
+    found = true;
+  }
+  return found;
+}
+
+template <class C> inline bool occluded(const SceneBvh4& s, const Ray& ray, C& c) {
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  if (!spheres.empty() && ray_is_traceable(ray)) {
+    c.primitives_tested(static_cast<uint32_t>(spheres.size()));
+    for (const SceneBvh4::SphereShape& sp : spheres) {
+      float t;
+      if (intersect_sphere(ray.org, ray.dir, ray.tmin, ray.tmax, sp.center, sp.radius, t)) return true;
+    }
+  }
+  const Bvh4& bvh = s.bvh();
+  return bvh.form == TriangleForm::kWatertight ? bvh4_occluded<TriangleForm::kWatertight>(bvh, ray, c)
+                                               : bvh4_occluded<TriangleForm::kMollerTrumbore>(bvh, ray, c);
+}
+
+inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit) {
+  NoCounters c;
+  return intersect(s, ray, hit, c);
+}
+inline bool occluded(const SceneBvh4& s, const Ray& ray) {
+  NoCounters c;
+  return occluded(s, ray, c);
+}
+
+/// One packet of occlusion queries: the lanes of `lanes` (< kLanes) whose ray is blocked.
+inline uint32_t occluded_packet(const SceneBvh4& s, const Ray* rays, uint32_t lanes) {
+  lanes &= lanes_below(kLanes);
+  uint32_t blocked = 0;
+  if (s.bvh().form != TriangleForm::kMollerTrumbore) {
+    for (uint32_t m = lanes; m != 0; m &= m - 1)
+      if (occluded(s, rays[std::countr_zero(m)])) blocked |= 1u << std::countr_zero(m);
+    return blocked;
+  }
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  for (uint32_t m = spheres.empty() ? 0 : lanes; m != 0; m &= m - 1) {  // spheres first, per lane
+    const Ray& r = rays[std::countr_zero(m)];
+    if (!ray_is_traceable(r)) continue;
+    for (const SceneBvh4::SphereShape& sp : spheres) {
+      float t;
+      if (intersect_sphere(r.org, r.dir, r.tmin, r.tmax, sp.center, sp.radius, t)) {
+        blocked |= 1u << std::countr_zero(m);
+        break;
+      }
+    }
+  }
+  RayPacket p = load_ray_packet(rays, lanes & ~blocked);
+  return blocked | (p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p));
+}
+
+/// One packet of closest-hit queries: rays[i] -> hits[i] for the lanes of `lanes` (< kLanes).
+inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uint32_t lanes) {
+  lanes &= lanes_below(kLanes);
+  if (s.bvh().form != TriangleForm::kMollerTrumbore) {
+    for (uint32_t m = lanes; m != 0; m &= m - 1) intersect(s, rays[std::countr_zero(m)], hits[std::countr_zero(m)]);
+    return;
+  }
+  RayPacket p = load_ray_packet(rays, lanes);
+  PacketHits h;
+  if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
+  else bvh4_intersect_packet<false>(s.bvh(), p, h);
+  alignas(64) float t[kLanes], u[kLanes], v[kLanes];
+  alignas(64) int32_t prim[kLanes];
+  p.tmax.store_aligned(t);
+  h.u.store_aligned(u);
+  h.v.store_aligned(v);
+  h.prim.store_aligned(prim);
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  for (uint32_t m = lanes; m != 0; m &= m - 1) {
+    uint32_t i = std::countr_zero(m);
+    Hit& hit = hits[i];
+    uint32_t id = static_cast<uint32_t>(prim[i]);
+    hit = id != kInvalidId ? Hit{t[i], u[i], v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
+    if (spheres.empty() || !(p.active >> i & 1)) continue;
+    for (uint32_t k = 0; k < spheres.size(); ++k) {
+      float ts;
+      if (intersect_sphere(rays[i].org, rays[i].dir, rays[i].tmin, hit.t, spheres[k].center, spheres[k].radius, ts))
+        hit = {ts, 0.0f, 0.0f, sphere_prim_id(k)};
+    }
+  }
+}
+
+}  // namespace pt::bvh4_queries

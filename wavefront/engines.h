@@ -1,0 +1,57 @@
+// The SIMD engines: the wavefront (paths in waves of SoA queues through
+// separate stages) and the megakernel it is measured against (each path traced
+// start to finish). Both are compiled once per instruction-set level
+// (engines_isa.cpp); these entry points run the level active_isa() names.
+#pragma once
+
+#include <cstddef>
+
+#include "kernels/isa.h"
+#include "kernels/render_job.h"
+#include "stage_stats.h"
+
+namespace pt {
+class SceneBvh4;
+namespace reference {
+class ReferenceAccel;
+}
+}  // namespace pt
+
+namespace pt::wf {
+
+/// What the engines trace rays with: the 4-wide BVH, or else the reference's
+/// accelerator (midpoint BVH2 or brute force).
+struct Tracing {
+  const SceneBvh4* bvh4 = nullptr;
+  const reference::ReferenceAccel* accel = nullptr;
+  bool count_tests = false;  ///< count primitive tests (BVH4: packets then trace ray by ray)
+};
+
+struct WavefrontOptions {
+  size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
+  bool packets = true;       ///< SIMD packets for camera rays and first-hit shadow rays
+};
+
+/// Renders with the wavefront. If `stage_stats` is given, it receives the
+/// per-stage statistics.
+RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const RenderSettings& rs,
+                              const Tracing& tracing, const WavefrontOptions& options = {},
+                              const RenderControl& control = {}, StageStats* stage_stats = nullptr);
+
+/// Renders with the megakernel.
+RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs,
+                               const Tracing& tracing, const RenderControl& control = {});
+
+/// The engines of one compiled level.
+struct EngineTable {
+  Isa isa;
+  RenderOutput (*wavefront)(const Scene&, const Camera&, const RenderSettings&, const Tracing&,
+                            const WavefrontOptions&, const RenderControl&, StageStats*);
+  RenderOutput (*megakernel)(const Scene&, const Camera&, const RenderSettings&, const Tracing&,
+                             const RenderControl&);
+};
+
+/// The table of a level compiled into this binary (IsaError otherwise).
+const EngineTable& engine_table(Isa isa);
+
+}  // namespace pt::wf
