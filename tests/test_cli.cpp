@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "io/image_output.h"
+#include "kernels/isa.h"
 #include "run_process.h"
 
 namespace pt {
@@ -80,6 +81,7 @@ const std::vector<BadFlags> kBadFlags = {
     {{"--leaf-size", "0"}, "error: --leaf-size: leaf size must be an integer from 1 to 64, got \"0\""},
     {{"--checkpoint-every", "0"},
      "error: --checkpoint-every: checkpoint interval must be a positive number of seconds, got \"0\""},
+    {{"--isa", "sse5"}, "error: --isa: unknown instruction set \"sse5\" (one of: auto, sse4.2, avx2, avx512, neon)"},
     {{"--bogus"}, "error: The following argument was not expected: --bogus (see --help)"},
     {{"a.dae", "b.dae"}, "error: The following argument was not expected: b.dae (see --help)"},
     {{"-c", "-q"}, "error: -c: missing value before -q"},
@@ -202,6 +204,43 @@ TEST(ReferenceImage, WhoseHeaderClaimsMoreThanTheFileHoldsIsRefusedWithoutAlloca
       PT_PATHTRACER_BINARY, {"-q", "-r", "4", "3", "--reference", "huge.pfm", "--convergence-csv", "out.csv"},
       dir.path(), kTimeLimit, size_t(1) << 30);
   expect_refused(dir, before, r, 1, "error: huge.pfm: PFM data is truncated");
+}
+
+// ------------------------------------------------------ instruction sets
+
+TEST(Flags, ALevelThisBinaryLacksIsRefused) {
+  std::string compiled;
+  for (Isa c : compiled_isas()) compiled += (compiled.empty() ? "" : ", ") + std::string(isa_name(c));
+  for (Isa isa : {Isa::kSse42, Isa::kAvx2, Isa::kAvx512, Isa::kNeon}) {
+    bool in_binary = false;
+    for (Isa c : compiled_isas()) in_binary = in_binary || c == isa;
+    if (in_binary) continue;
+    test::ScratchDir dir;
+    std::string name(isa_name(isa));
+    expect_refused(dir, {}, run(dir, {"-q", "-f", "out.png", "--isa", name}), 2,
+                   "error: --isa: this binary is not compiled for " + name + " (it has: " + compiled + ")");
+  }
+}
+
+TEST(Flags, AnUnknownLevelInPT_ISAIsRefused) {
+  ::setenv("PT_ISA", "sse5", 1);
+  test::ScratchDir dir;
+  test::ProcessResult r = run(dir, {"-q", "-f", "out.png"});
+  ::unsetenv("PT_ISA");
+  expect_refused(dir, {}, r, 2,
+                 "error: PT_ISA: unknown instruction set \"sse5\" (one of: auto, sse4.2, avx2, avx512, neon)");
+}
+
+TEST(Flags, EveryLevelTheCpuRunsRendersAndIsNamedInTheReport) {
+  for (Isa isa : compiled_isas()) {
+    if (!cpu_supports(isa)) continue;
+    test::ScratchDir dir;
+    std::string name(isa_name(isa));
+    test::ProcessResult r = run(dir, {"-r", "8", "6", "-s", "4", "--isa", name, "-f", "out.png"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::string expected = "(bvh4, " + name + ", " + std::to_string(isa_lanes(isa)) + " lanes)";
+    EXPECT_NE(r.out.find(expected), std::string::npos) << r.out;
+  }
 }
 
 // --------------------------------------------------------- valid values work
