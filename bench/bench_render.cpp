@@ -6,7 +6,8 @@
 //
 // Default settings are those of the course renderer's published timing:
 // 480x360, -s 64 -l 4 -m 5, adaptive sampling off, 2 threads, the course
-// renderer's framing (--cs184-framing).
+// renderer's framing (--cs184-framing). The SIMD engines run at the level
+// PT_ISA names (default: the widest the CPU runs); the JSON context names it.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -111,6 +112,8 @@ int main(int argc, char** argv) {
   register_benchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::AddCustomContext("isa", std::string(isa_name(active_isa())) + ", " +
+                                         std::to_string(isa_lanes(active_isa())) + " lanes");
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

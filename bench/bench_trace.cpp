@@ -2,7 +2,7 @@
 // --benchmark_out). Per scene and ray set (primary, diffuse, shadow), every
 // tracer in the same process on the same rays, 1 and 2 threads, as rays/s
 // counters: this BVH4 (single rays with Moller-Trumbore and watertight
-// leaves; packets of kLanes rays on primary rays; the batch for incoherent
+// leaves; packets of K rays on primary rays; the batch for incoherent
 // rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
 // 4/8/16 on primary rays) built with high and default quality; plus build
 // times and memory. Every tracer is validated ray by ray before it is timed.
@@ -10,6 +10,9 @@
 // --quick: two small scenes and fewer rays (a smoke run); --export-rays:
 // write every scene's triangles and ray sets for trace_rays, then exit.
 // 1-thread rates are over thread CPU time, 2-thread rates over wall time.
+// The kernels run at the level PT_ISA names (default: the widest the CPU
+// runs), Embree restricted to the same instruction set; the JSON context
+// names both.
 #include <benchmark/benchmark.h>
 
 #include <cstring>
@@ -199,6 +202,8 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("rays", std::to_string(g_options.width) + "x" + std::to_string(g_options.height) +
                                           " primary rays per scene");
   benchmark::AddCustomContext("bvh4_layout", "128-byte nodes, 160-byte blocks of 4 triangles");
+  benchmark::AddCustomContext("isa", std::string(pt::isa_name(pt::active_isa())) + ", " +
+                                         std::to_string(pt::isa_lanes(pt::active_isa())) + " lanes");
 #ifdef PT_HAVE_EMBREE
   benchmark::AddCustomContext("embree", EmbreeTracer::version_and_isa());
 #endif

@@ -76,7 +76,7 @@ EmbreeRays convert_rays(const std::vector<Ray>& rays, bool with_packets) {
 }
 
 EmbreeTracer::EmbreeTracer(const Scene& scene, RTCBuildQuality quality) {
-  device_ = rtcNewDevice(nullptr);
+  device_ = rtcNewDevice(device_config().c_str());
   if (!device_) throw std::runtime_error("rtcNewDevice failed");
   rtcSetDeviceMemoryMonitorFunction(device_, count_bytes, nullptr);
   vertices_.reserve(scene.positions.size() * 3 + 1);
@@ -141,8 +141,10 @@ void EmbreeTracer::occluded1(const EmbreeRays& rays, size_t begin, size_t end, u
   }
 }
 
+std::string EmbreeTracer::device_config() { return "isa=" + std::string(isa_name(active_isa())); }
+
 std::string EmbreeTracer::version_and_isa() {
-  RTCDevice d = rtcNewDevice(nullptr);
+  RTCDevice d = rtcNewDevice(device_config().c_str());
   std::string v = std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
                   std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
                   std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_PATCH));
@@ -150,7 +152,7 @@ std::string EmbreeTracer::version_and_isa() {
                        : rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? "8 (AVX/AVX2)"
                                                                                            : "4 (SSE)";
   rtcReleaseDevice(d);
-  return v + ", native packets of " + widest;
+  return v + ", " + device_config() + ", native packets of " + widest;
 }
 
 }  // namespace pt::bench

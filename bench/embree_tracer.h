@@ -1,6 +1,7 @@
 // Intel Embree 3 behind the benchmark's tracer interface: a scene of one
 // triangle mesh sharing the benchmark's vertex and index arrays, built with
-// a chosen quality; single-ray queries (rtcIntersect1 / rtcOccluded1) and
+// a chosen quality, on a device restricted to the instruction set this
+// renderer's kernels run at (Embree's "isa=" device config); single-ray queries (rtcIntersect1 / rtcOccluded1) and
 // packets of 4, 8 or 16 rays (rtcIntersect4/8/16). Rays are converted to
 // Embree's records once per ray set, outside the timed loops. Benchmark only:
 // the renderer never uses Embree.
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/isa.h"
 #include "kernels/ray.h"
 #include "kernels/scene.h"
 
@@ -48,8 +50,11 @@ class EmbreeTracer {
   /// Bytes Embree holds after the build (memory monitor: allocations minus frees).
   int64_t bytes() const { return bytes_; }
 
-  /// "x.y.z" and the widest native packet it reports.
+  /// "x.y.z", the instruction set its device is restricted to, and the widest
+  /// native packet it reports there.
   static std::string version_and_isa();
+  /// Embree's device configuration for the level in use ("isa=avx2").
+  static std::string device_config();
 
  private:
   RTCDevice device_ = nullptr;

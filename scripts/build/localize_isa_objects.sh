@@ -9,8 +9,9 @@
 # Fails when the objects define writable data with external linkage outside
 # the namespace (function-local statics of inline functions, template static
 # members): localizing would give each level its own copy of shared state.
-# (DW.ref.* are the exception tables' pointers to the personality routine:
-# constants after relocation.)
+# (DW.ref.* are the exception tables' pointers to the personality routine,
+# constants after relocation; __odr_asan.* are AddressSanitizer's one-byte
+# indicators for its ODR check.)
 set -euo pipefail
 ld=$1 objcopy=$2 nm=$3 namespace=$4 out=$5
 shift 5
@@ -21,7 +22,7 @@ partial="$out.partial.o"
 shared_state=$("$nm" --defined-only -f sysv "$partial" | awk -F'|' -v keep="$keep" '
   { name = $1; cls = $3; section = $7; gsub(/ /, "", name); gsub(/ /, "", cls); gsub(/ /, "", section) }
   cls ~ /^[BDGSVu]$/ && section ~ /^\.(data|bss|tdata|tbss)/ && section !~ /^\.data\.rel\.ro/ &&
-  index(name, keep) != 1 && name !~ /^DW\.ref\./ { print name }')
+  index(name, keep) != 1 && name !~ /^(DW\.ref|__odr_asan)\./ { print name }')
 if [ -n "$shared_state" ]; then
   echo "localize_isa_objects: $namespace defines writable data shared with other levels:" >&2
   echo "$shared_state" >&2
