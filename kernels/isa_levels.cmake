@@ -25,10 +25,13 @@ else()
   message(FATAL_ERROR "SIMD kernels exist for x86-64 and aarch64, not ${CMAKE_SYSTEM_PROCESSOR}")
 endif()
 
+set(PT_MARCH native CACHE STRING "With PT_NATIVE: the -march of the whole build (native, x86-64-v3, znver3, ...)")
 if(PT_NATIVE)
-  # One level: the widest that -march=native reaches.
+  # One level: the widest that -march=${PT_MARCH} reaches.
   include(CheckCXXSourceCompiles)
-  set(CMAKE_REQUIRED_FLAGS -march=native)
+  unset(PT_NATIVE_IS_AVX512 CACHE)  # PT_MARCH may have changed since the last configure
+  unset(PT_NATIVE_IS_AVX2 CACHE)
+  set(CMAKE_REQUIRED_FLAGS -march=${PT_MARCH})
   check_cxx_source_compiles("
     #if !(defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512CD__) && defined(__AVX512DQ__) && defined(__AVX512VL__))
     #error
@@ -50,8 +53,8 @@ if(PT_NATIVE)
     set(level sse42)
   endif()
   set(PT_ISA_LEVELS ${level})
-  set(PT_ISA_FLAGS_${level} -march=native)
-  set(PT_BASELINE_FLAGS -march=native)
+  set(PT_ISA_FLAGS_${level} -march=${PT_MARCH})
+  set(PT_BASELINE_FLAGS -march=${PT_MARCH})
 endif()
 message(STATUS "SIMD kernels compiled for: ${PT_ISA_LEVELS}")
 add_compile_options(${PT_BASELINE_FLAGS})
