@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The ray tracing benchmark in one command: builds bench_trace (Release,
-# -march=native), runs every scene side by side with Embree (median of 5
-# repetitions), writes out/bench.json (Google Benchmark JSON) and prints
+# The ray tracing benchmark in one command: builds bench_trace (Release; the
+# kernels run at the level PT_ISA names, default the widest this CPU runs, and
+# Embree at the same instruction set), runs every scene side by side with
+# Embree (median of 5 repetitions), writes out/bench.json (Google Benchmark JSON) and prints
 # out/bench_table.md. Arguments go to bench_trace, e.g. --quick for a smoke
 # run (two small scenes, one short repetition) or --benchmark_filter=CBbunny.
 set -euo pipefail

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# First command of the README: install dependencies, build (Release,
-# -march=native) and render the built-in default scene to out/cornell_spheres.png.
+# First command of the README: install dependencies, build (Release, the SIMD
+# kernels of every instruction-set level in one binary) and render the built-in
+# default scene to out/cornell_spheres.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
