@@ -39,7 +39,7 @@ SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions&
   });
   sets_[1] = diffuse_rays(scene_, sets_[0], first, 1);
   sets_[2] = shadow_rays(scene_, sets_[0], first, 2);
-  bvh2_ = std::make_unique<reference::ReferenceAccel>(scene_, reference::AccelMode::kBvh);
+  bvh2_ = std::make_unique<SceneBvh2>(scene_, Bvh2Mode::kMidpoint);
   for (int k = 0; k < 3; ++k) {
     const std::vector<Ray>& rays = sets_[k].rays;
     oracle_hits_[k].resize(rays.size());
@@ -93,7 +93,7 @@ void SceneFixture::add_reference_tracers(const FixtureOptions& options) {
                                              return bvh2_->occluded(r, n);
                                            })});
   if (scene_.triangles.size() <= options.brute_force_max_triangles) {
-    brute_ = std::make_unique<reference::ReferenceAccel>(scene_, reference::AccelMode::kBruteForce);
+    brute_ = std::make_unique<SceneBvh2>(scene_, Bvh2Mode::kBruteForce);
     TracerEntry e{"brute_force", single_rays(
                                      [this](const Ray& r, Hit& h) {
                                        uint64_t n = 0;

@@ -13,7 +13,7 @@
 #include "bvh/scene_bvh4.h"
 #include "kernels/scene.h"
 #include "ray_sets.h"
-#include "tests/reference/reference_accel.h"
+#include "bvh/scene_bvh2.h"
 #ifdef PT_HAVE_EMBREE
 #include "embree_tracer.h"
 #endif
@@ -92,7 +92,7 @@ class SceneFixture {
   std::vector<Hit> oracle_hits_[3];
   std::vector<uint8_t> oracle_blocked_[3];
   std::unique_ptr<SceneBvh4> bvh4_, bvh4_watertight_;
-  std::unique_ptr<reference::ReferenceAccel> bvh2_, brute_;
+  std::unique_ptr<SceneBvh2> bvh2_, brute_;
 #ifdef PT_HAVE_EMBREE
   std::unique_ptr<EmbreeTracer> embree_high_, embree_default_;
   EmbreeRays embree_rays_[3];

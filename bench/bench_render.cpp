@@ -19,7 +19,7 @@
 #include "bvh/scene_bvh4.h"
 #include "io/camera_setup.h"
 #include "io/collada_loader.h"
-#include "tests/reference/reference_renderer.h"
+#include "reference/reference_renderer.h"
 #include "wavefront/engines.h"
 
 namespace {
@@ -30,7 +30,7 @@ struct LoadedScene {
   Scene scene;
   Camera camera;
   std::unique_ptr<SceneBvh4> bvh;
-  std::unique_ptr<reference::ReferenceAccel> reference_accel;
+  std::unique_ptr<SceneBvh2> reference_accel;
 };
 
 RenderSettings course_comparison_settings() {
@@ -54,7 +54,7 @@ const LoadedScene& scene(const std::string& name) {
   RenderSettings rs = course_comparison_settings();
   s->camera = resolve_camera(s->scene, rs.width, rs.height, /*cs184_framing=*/true);
   s->bvh = std::make_unique<SceneBvh4>(s->scene);
-  s->reference_accel = std::make_unique<reference::ReferenceAccel>(s->scene, reference::AccelMode::kBvh4);
+  s->reference_accel = std::make_unique<SceneBvh2>(s->scene, Bvh2Mode::kMidpoint);
   cache.emplace_back(name, std::move(s));
   return *cache.back().second;
 }

@@ -1,7 +1,7 @@
 // The engine list: add an engine here and every engine-level test covers it.
 #include "engines_under_test.h"
 
-#include "tests/reference/reference_renderer.h"
+#include "reference/reference_renderer.h"
 #include "bvh/scene_bvh4.h"
 #include "wavefront/engines.h"
 

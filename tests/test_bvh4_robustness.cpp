@@ -49,7 +49,7 @@ TEST(Bvh4Robustness, AxisAlignedRaysMatchBruteForce) {
   Scene scene = tessellated_sphere(3, {0, 0, 0}, 1.0f);
   Scene room = built_in_scene();  // axis-aligned walls: flat boxes
   for (const Scene* s : {&scene, &room}) {
-    reference::ReferenceAccel oracle(*s, reference::AccelMode::kBruteForce);
+    SceneBvh2 oracle(*s, Bvh2Mode::kBruteForce);
     for (bool watertight : {false, true}) {
       Bvh4Options o;
       o.watertight = watertight;

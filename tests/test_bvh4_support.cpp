@@ -35,7 +35,7 @@ std::vector<Ray> uniform_random_rays(const Scene& scene, size_t n, uint32_t seed
   return rays;
 }
 
-std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const reference::ReferenceAccel& oracle,
+std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const SceneBvh2& oracle,
                                      const std::vector<Ray>& rays, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
@@ -51,7 +51,7 @@ std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const reference::Refere
   return out;
 }
 
-std::vector<Ray> shadow_rays(const Scene& scene, const reference::ReferenceAccel& oracle,
+std::vector<Ray> shadow_rays(const Scene& scene, const SceneBvh2& oracle,
                              const std::vector<Ray>& rays, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);

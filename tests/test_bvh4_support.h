@@ -10,7 +10,7 @@
 
 #include "kernels/ray.h"
 #include "kernels/scene.h"
-#include "tests/reference/reference_accel.h"
+#include "bvh/scene_bvh2.h"
 
 namespace pt::test {
 
@@ -25,13 +25,13 @@ std::vector<Ray> uniform_random_rays(const Scene& scene, size_t n, uint32_t seed
 /// Rays that leave the first hits of `rays` (closest hits by `oracle`):
 /// cosine-distributed around the geometric normal facing the arriving ray,
 /// from the offset origin the renderers use.
-std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const reference::ReferenceAccel& oracle,
+std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const SceneBvh2& oracle,
                                      const std::vector<Ray>& rays, uint32_t seed);
 
 /// Rays from the first hits of `rays` towards a uniform point on a random
 /// area light (or, without area lights, a random point in the scene bounds),
 /// with tmax just short of the target: the renderers' shadow rays.
-std::vector<Ray> shadow_rays(const Scene& scene, const reference::ReferenceAccel& oracle,
+std::vector<Ray> shadow_rays(const Scene& scene, const SceneBvh2& oracle,
                              const std::vector<Ray>& rays, uint32_t seed);
 
 /// The suites' equality of closest hits (for unit-length directions): both

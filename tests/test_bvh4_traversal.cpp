@@ -22,7 +22,7 @@ struct Expected {
   std::vector<char> occluded;
 };
 
-Expected brute_force(const char* kind, std::vector<Ray> rays, const reference::ReferenceAccel& oracle) {
+Expected brute_force(const char* kind, std::vector<Ray> rays, const SceneBvh2& oracle) {
   Expected e{kind, std::move(rays), {}, {}};
   uint64_t tests = 0;
   for (const Ray& r : e.rays) {
@@ -37,7 +37,7 @@ Expected brute_force(const char* kind, std::vector<Ray> rays, const reference::R
 /// Camera, random, bounce and shadow rays: 300..3000 per set, fewer for big
 /// scenes (brute force costs rays x triangles; about 6e7 tests per scene).
 std::vector<Expected> expected_answers(const Scene& scene) {
-  reference::ReferenceAccel oracle(scene, reference::AccelMode::kBruteForce);
+  SceneBvh2 oracle(scene, Bvh2Mode::kBruteForce);
   size_t per_set = std::clamp<size_t>(60'000'000 / (8 * std::max<size_t>(scene.primitive_count(), 1)), 300, 3000);
   int height = static_cast<int>(std::sqrt(per_set * 0.75));
   std::vector<Ray> camera = camera_rays(scene, height * 4 / 3, height);

@@ -1,4 +1,4 @@
-// The binary BVH against brute force (tests/reference/reference_accel.h): for
+// The binary BVH against brute force (bvh/scene_bvh2.h): for
 // thousands of random rays per scene, the closest hit through the BVH is the
 // brute-force closest hit ("equal" = the same primitive with the same t, u, v,
 // or a different primitive at the same t within 1e-6 relative: an exact tie),
@@ -14,13 +14,10 @@
 #include "bvh/bvh2.h"
 #include "scene_builders.h"
 #include "test_support.h"
-#include "tests/reference/reference_accel.h"
+#include "bvh/scene_bvh2.h"
 
 namespace pt {
 namespace {
-
-using reference::AccelMode;
-using reference::ReferenceAccel;
 
 /// A random point on primitive `prim` (triangles first, then spheres).
 float3 point_on_primitive(const Scene& s, uint32_t prim, std::mt19937& rng) {
@@ -76,7 +73,7 @@ struct Answer {
 
 /// The brute-force closest hit of every ray (the expensive half, computed once per scene).
 std::vector<Answer> brute_force_answers(const Scene& s, const std::vector<Ray>& rays) {
-  ReferenceAccel brute(s, AccelMode::kBruteForce);
+  SceneBvh2 brute(s, Bvh2Mode::kBruteForce);
   uint64_t tests = 0;
   std::vector<Answer> answers(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) answers[i].found = brute.intersect(rays[i], answers[i].hit, tests);
@@ -87,7 +84,7 @@ std::vector<Answer> brute_force_answers(const Scene& s, const std::vector<Ray>& 
 /// ray; returns the number of rays that hit something.
 int expect_bvh_equals_brute_force(const Scene& s, uint32_t leaf_size, const std::vector<Ray>& rays,
                                   const std::vector<Answer>& brute) {
-  ReferenceAccel bvh(s, AccelMode::kBvh, leaf_size);
+  SceneBvh2 bvh(s, Bvh2Mode::kMidpoint, leaf_size);
   uint64_t tests = 0;
   int hits = 0, failures = 0;
   for (size_t i = 0; i < rays.size() && failures < 10; ++i) {
@@ -116,7 +113,7 @@ int expect_bvh_equals_brute_force(const Scene& s, uint32_t leaf_size, const std:
 }
 
 void expect_valid_hierarchy(const Scene& s, uint32_t leaf_size) {
-  ReferenceAccel accel(s, AccelMode::kBvh, leaf_size);
+  SceneBvh2 accel(s, Bvh2Mode::kMidpoint, leaf_size);
   const Bvh2& bvh = accel.bvh();
   std::vector<uint32_t> order = bvh.prim_order;
   std::sort(order.begin(), order.end());
@@ -209,7 +206,7 @@ TEST(BvhDegenerate, ChainOfMidpointSplitsStaysWithinTheDepthLimit) {
   }
   test::finish_scene(s);
   expect_valid_hierarchy(s, 1);
-  EXPECT_GT(bvh2_shape(ReferenceAccel(s, AccelMode::kBvh, 1).bvh()).depth, kBvh2MaxDepth - 8)
+  EXPECT_GT(bvh2_shape(SceneBvh2(s, Bvh2Mode::kMidpoint, 1).bvh()).depth, kBvh2MaxDepth - 8)
       << "the scene no longer reaches the median fallback";
   EXPECT_GT(expect_bvh_equals_brute_force(s, 1, random_rays(s, 3000, 5)), 1000);
 }

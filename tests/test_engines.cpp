@@ -17,7 +17,7 @@
 #include "io/camera_setup.h"
 #include "kernels/isa.h"
 #include "test_support.h"
-#include "tests/reference/reference_renderer.h"
+#include "reference/reference_renderer.h"
 #include "wavefront/engines.h"
 
 namespace pt {
@@ -245,8 +245,8 @@ TEST(Determinism, ThreadCountAndWaveSizeDoNotChangeTheImage) {
   rs.adaptive_batch = 16;
   rs.adaptive_tolerance = 0.05f;  // adaptive on: the active set changes between passes
   Camera cam = resolve_camera(scene, rs.width, rs.height);
-  reference::ReferenceAccel accel(scene, reference::AccelMode::kBvh);
-  wf::Tracing tracer{.accel = &accel};
+  SceneBvh2 accel(scene, Bvh2Mode::kMidpoint);
+  wf::Tracing tracer{.bvh2 = &accel};
 
   rs.threads = 1;
   Film base = wf::render_wavefront(scene, cam, rs, tracer, {4096}).film;

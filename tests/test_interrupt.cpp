@@ -17,7 +17,7 @@
 #include "io/checkpoint.h"
 #include "io/scene_error.h"
 #include "test_support.h"
-#include "tests/reference/reference_accel.h"
+#include "bvh/scene_bvh2.h"
 #include "wavefront/engines.h"
 
 extern char** environ;
@@ -29,7 +29,7 @@ struct Fixture {
   Scene scene = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
   RenderSettings rs;
   Camera camera;
-  reference::ReferenceAccel accel{scene, reference::AccelMode::kBvh};
+  SceneBvh2 accel{scene, Bvh2Mode::kMidpoint};
   Fixture() {
     rs.width = 40;
     rs.height = 30;
@@ -41,7 +41,7 @@ struct Fixture {
     camera = resolve_camera(scene, rs.width, rs.height);
   }
   RenderOutput render(const RenderControl& control) {
-    return wf::render_wavefront(scene, camera, rs, wf::Tracing{.accel = &accel}, {256}, control);
+    return wf::render_wavefront(scene, camera, rs, wf::Tracing{.bvh2 = &accel}, {256}, control);
   }
 };
 

@@ -11,7 +11,7 @@
 #include "run_process.h"
 #include "stability_scenes.h"
 #include "test_support.h"
-#include "tests/reference/reference_accel.h"
+#include "bvh/scene_bvh2.h"
 #include "wavefront/engines.h"
 #include "wavefront/streams.h"
 
@@ -66,10 +66,10 @@ cli::MemoryReport wavefront_report(int w, int h) {
   rs.max_depth = 3;
   rs.threads = 1;
   rs.seed = 0;
-  reference::ReferenceAccel accel(scene, reference::AccelMode::kBvh);
+  SceneBvh2 accel(scene, Bvh2Mode::kMidpoint);
   wf::StageStats stages;
   RenderOutput out =
-      wf::render_wavefront(scene, test::camera_above_floor(), rs, wf::Tracing{.accel = &accel}, {}, {}, &stages);
+      wf::render_wavefront(scene, test::camera_above_floor(), rs, wf::Tracing{.bvh2 = &accel}, {}, {}, &stages);
   cli::MemoryReport r;
   cli::add_scene_memory(r, scene);
   cli::EngineFootprint engine{cli::Engine::kWavefront, "bvh2", {accel.bytes(), accel.bytes()}, stages.queue_bytes};

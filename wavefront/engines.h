@@ -11,19 +11,17 @@
 #include "stage_stats.h"
 
 namespace pt {
+class SceneBvh2;
 class SceneBvh4;
-namespace reference {
-class ReferenceAccel;
-}
 }  // namespace pt
 
 namespace pt::wf {
 
-/// What the engines trace rays with: the 4-wide BVH, or else the reference's
-/// accelerator (midpoint BVH2 or brute force).
+/// What the engines trace rays with: the 4-wide BVH, or else the midpoint
+/// BVH2 or brute force (bvh/scene_bvh2.h).
 struct Tracing {
   const SceneBvh4* bvh4 = nullptr;
-  const reference::ReferenceAccel* accel = nullptr;
+  const SceneBvh2* bvh2 = nullptr;
   bool count_tests = false;  ///< count primitive tests (BVH4: packets then trace ray by ray)
 };
 

@@ -1,9 +1,9 @@
 // The engine table of one instruction-set level (compiled once per level, see
 // kernels/isa.h): the wavefront and the megakernel instantiated over each
 // tracer.
+#include "bvh/tracers.h"
 #include "engines.h"
 #include "megakernel_renderer.h"
-#include "tracers.h"
 #include "wavefront_renderer.h"
 
 namespace pt::wf {
@@ -11,7 +11,7 @@ namespace {
 
 /// Calls render(tracer) with the tracer `tracing` names.
 template <class Render> RenderOutput with_tracer(const Tracing& tracing, Render&& render) {
-  if (!tracing.bvh4) return render(Bvh2Tracer{*tracing.accel});
+  if (!tracing.bvh4) return render(Bvh2Tracer{*tracing.bvh2});
   if (tracing.count_tests) return render(Bvh4Tracer<true>{*tracing.bvh4});
   return render(Bvh4Tracer<false>{*tracing.bvh4});
 }

@@ -1,23 +1,109 @@
-// The megakernel engine: each path traced start to finish, one at a time, by
-// the reference's path loop, over the same ray tracer, pass schedule, threads
-// and accumulators as the wavefront. It exists to measure what the wavefront's
-// queues and SIMD stages buy.
+// The megakernel engine: each path traced start to finish, one at a time, over
+// the same tracer, pass schedule, threads and accumulators as the wavefront,
+// by the same path rules and per-sample math (kernels/path_rules.h,
+// kernels/direct_light.h) taken one lane wide. It exists to measure what the
+// wavefront's queues and SIMD stages buy. Compiled per instruction-set level;
+// engines.h is the entry point.
 #pragma once
 
 #include <chrono>
 
 #include "kernels/camera_sample.h"
+#include "kernels/direct_light.h"
+#include "kernels/path_rules.h"
 #include "kernels/render_job.h"
 #include "pass_driver.h"
-#include "tests/reference/reference_integrator.h"
 
 namespace pt::wf {
+
+/// One path of the megakernel.
+template <class Tracer>
+class MegakernelPath {
+ public:
+  MegakernelPath(const Scene& scene, const RenderSettings& rs, const Tracer& tracer)
+      : scene_(scene), rs_(rs), tracer_(tracer), rules_(scene, rs), sky_visible_(scene.sky && !rs.cs184_invisible_sky) {}
+
+  float3 radiance(Ray ray, const PathSampler& ps, RenderStats& stats) const {
+    Hit hit;
+    ++stats.camera_rays;
+    if (!tracer_.intersect(ray, hit, stats.intersection_tests))
+      return rs_.shading != ShadingMode::kNormals && rules_.counts_escape(0, sky_visible_)
+                 ? sky_radiance(*scene_.sky, ray.dir)
+                 : float3{};
+    SurfacePoint sp = surface_at(scene_, ray, hit);
+    if (rs_.shading == ShadingMode::kNormals) return normal_shading_color(sp);
+    float3 L, beta{1.0f};
+    if (rules_.counts(0)) L += emitted_radiance(scene_, sp, ray, rs_);
+    for (uint32_t vertex = 1;; ++vertex) {
+      const float3 albedo = scene_.materials[sp.material].albedo;
+      const ShadingPointT<float> point = shading_point(sp, !is_black(albedo));
+      if (rules_.estimates_direct_light(vertex)) add_direct_light(point, ps, vertex, beta * albedo * kInvPi, L, stats);
+      if (!rules_.traces_bsdf_ray(vertex)) break;
+      BsdfSampleT<float> bs = sample_lambertian(point, ps, vertex);
+      if (!bs.ok) break;
+      beta = beta * albedo;
+      if (PathRules::roulette_applies(vertex)) {
+        float p = continuation_probability(rs_, max_component(beta));
+        if (ps.get1d(vertex, dims::kRoulette) >= p) break;
+        beta = beta / p;
+      }
+      ray = Ray{to_float3(offset_origin(point.p, point.ng, point.offset, bs.wi)), 0.0f, to_float3(bs.wi), kInfinity};
+      ++stats.bounce_rays;
+      bool found = tracer_.intersect(ray, hit, stats.intersection_tests);
+      if (rules_.bsdf_competes(vertex)) L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
+      if (!found) break;
+      sp = surface_at(scene_, ray, hit);
+      if (emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
+        L += beta * emitted_radiance(scene_, sp, ray, rs_);
+      if (!rules_.continues(vertex)) break;  // the final bounce only collects emission
+    }
+    return L;
+  }
+
+ private:
+  /// Adds beta_f x the direct light of vertex `vertex` to L, tracing each
+  /// sample's shadow (or probe) ray at once.
+  void add_direct_light(const ShadingPointT<float>& point, const PathSampler& ps, uint32_t vertex, float3 beta_f,
+                        float3& L, RenderStats& stats) const {
+    if (!point.on) return;
+    if (rs_.direct_by_hitting()) {
+      sample_hemisphere_rays(scene_, rs_, point, ps, vertex,
+                             [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float weight) {
+                               if (!ok) return;
+                               Ray ray{to_float3(org), 0.0f, to_float3(wi), kInfinity};
+                               ++stats.shadow_rays;
+                               Hit hit;
+                               float3 incoming;
+                               if (tracer_.intersect(ray, hit, stats.intersection_tests))
+                                 incoming = emitted_radiance(scene_, surface_at(scene_, ray, hit), ray, rs_);
+                               else if (sky_visible_)
+                                 incoming = sky_radiance(*scene_.sky, ray.dir);
+                               L += beta_f * incoming * weight;
+                             });
+      return;
+    }
+    sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
+                         [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax,
+                             const Vec3T<float>& weight) {
+                           if (!ok) return;
+                           ++stats.shadow_rays;
+                           if (!tracer_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
+                             L += beta_f * to_float3(weight);
+                         });
+  }
+
+  const Scene& scene_;
+  const RenderSettings& rs_;
+  const Tracer& tracer_;
+  PathRules rules_;
+  bool sky_visible_;
+};
 
 template <class Tracer>
 RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs,
                                const Tracer& tracer, const RenderControl& control = {}) {
   auto start = std::chrono::steady_clock::now();
-  const reference::ReferenceIntegrator<Tracer> integrator(scene, tracer, rs);
+  const MegakernelPath<Tracer> path(scene, rs, tracer);
   Accumulation acc = initial_accumulation(rs, control);
   RenderOutput out;
   auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, std::vector<PixelAccumulator>& px,
@@ -27,7 +113,7 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
       int y = static_cast<int>(pixel / static_cast<uint32_t>(rs.width));
       for (uint32_t s = first; s < first + len; ++s) {
         PathSampler ps(rs, pixel, s);
-        if (!px[pixel].add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats)))
+        if (!px[pixel].add(path.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats)))
           ++stats.invalid_samples;
       }
       stats.samples += len;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "kernels/path_rules.h"
 #include "kernels/random.h"
 #include "kernels/sample_dimensions.h"
 #include "kernels/shading.h"
@@ -41,7 +42,7 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
   const uint32_t dim_key = dimension_key(vertex, dims::kRoulette);
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
-    if (vertex < 2) {  // the first indirect bounce is always traced
+    if (!PathRules::roulette_applies(vertex)) {
       append_survivors(candidates, i0, lane_mask(valid), next);
       continue;
     }

@@ -1,13 +1,12 @@
 // shade_surfaces: per K-lane chunk, fetch surfaces, then emission (and light
 // found by the previous BSDF sample), direct light and BSDF sampling as
-// separate steps.
+// separate steps, by the path rules and per-sample math every engine shares
+// (kernels/path_rules.h, kernels/direct_light.h) taken K lanes wide.
 #include "shade_surfaces.h"
 
 #include "fetch_surfaces.h"
-#include "kernels/lights.h"
+#include "kernels/direct_light.h"
 #include "kernels/path_sampler.h"
-#include "kernels/sample_dimensions.h"
-#include "kernels/sampling.h"
 #include "kernels/shading.h"
 #include "kernels/surface.h"
 #include "lane_output.h"
@@ -20,11 +19,10 @@ using SamplerK = PathSamplerT<vuintK, vfloatK>;
 
 /// What the steps of one chunk share.
 struct Chunk {
-  SurfaceBatch s;
+  ShadingPointT<vfloatK> point;  ///< on: lanes whose surface reflects (non-black albedo)
   vuintK path;
   SamplerK ps;
   V3 beta, albedo;
-  vboolK reflects;  ///< a surface with non-black albedo
   uint32_t vertex;
 };
 
@@ -34,17 +32,14 @@ V3 gather3(const AlignedVector<float>& r, const AlignedVector<float>& g, const A
   return {gather(r.data(), i), gather(g.data(), i), gather(b.data(), i)};
 }
 
-vfloatK dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+V3 times(const V3& a, const V3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
 /// Emission the rays see, and under MIS the light their BSDF sample found
 /// (scalar: only lanes that hit emitters, or escaped where the sky counts).
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
                   uint32_t lanes, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
-  // Under MIS the previous vertex's BSDF sample competes with light samples
-  // (unless it was the final, emission-only bounce).
-  const bool mis = rs.direct == DirectLighting::kMis && depth > 0 && static_cast<int>(depth) < rs.max_depth &&
-                   rs.counts_bounce(static_cast<int>(depth));
+  const bool mis = depth > 0 && ctx.rules.bsdf_competes(depth);
   for_each_lane(lanes, [&](size_t lane) {
     size_t i = i0 + lane;
     uint32_t path = rays.path[i];
@@ -53,13 +48,13 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
     float3 beta{paths.beta_r[path], paths.beta_g[path], paths.beta_b[path]};
     float3 L;
     if (!hit.valid()) {
-      if (depth == 0 && rs.counts_bounce(0) && ctx.sky_visible) L = sky_radiance(*ctx.scene.sky, ray.dir);
+      if (depth == 0 && ctx.rules.counts_escape(0, ctx.sky_visible)) L = sky_radiance(*ctx.scene.sky, ray.dir);
       else if (mis) L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, nullptr, paths.bsdf_pdf[path]);
     } else {
       SurfacePoint sp = surface_at(ctx.scene, ray, hit);
       if (depth == 0) {
-        if (rs.counts_bounce(0)) L = emitted_radiance(ctx.scene, sp, ray, rs);
-      } else if (emission_found_by_bounce(ctx.scene, sp, rs) && rs.counts_bounce(static_cast<int>(depth))) {
+        if (ctx.rules.counts(0)) L = emitted_radiance(ctx.scene, sp, ray, rs);
+      } else if (emission_found_by_bounce(ctx.scene, sp, rs) && ctx.rules.counts_emission_found(depth)) {
         L = beta * emitted_radiance(ctx.scene, sp, ray, rs);
       } else if (mis) {
         L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, &hit, paths.bsdf_pdf[path]);
@@ -69,98 +64,37 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
   });
 }
 
-/// Pushes the shadow ray of one light sample per lane where it can contribute.
-void push_light_sample(const Chunk& c, vboolK ok, const V3& wi, vfloatK tmax, const V3& weight, ShadowQueue& q) {
-  ok = ok && dot(c.s.ns, wi) > vfloatK(0.0f) && dot(c.s.ng, wi) > vfloatK(0.0f);
-  uint32_t mask = lane_mask(ok);
-  if (!mask) return;
-  push_shadow_lanes(mask, q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, tmax, c.path, weight);
-}
-
-V3 light_weight(const V3& beta_f, const float3& radiance, vfloatK factor) {
-  return {beta_f.x * (vfloatK(radiance.x) * factor), beta_f.y * (vfloatK(radiance.y) * factor),
-          beta_f.z * (vfloatK(radiance.z) * factor)};
-}
-
 V3 throughput_times_bsdf(const Chunk& c) {
   const vfloatK inv_pi(kInvPi);
   return {c.beta.x * c.albedo.x * inv_pi, c.beta.y * c.albedo.y * inv_pi, c.beta.z * c.albedo.z * inv_pi};
 }
 
-/// cos / pdf, times the MIS weight against the BSDF sample when it competes.
-vfloatK light_factor(vfloatK cos_s, vfloatK pdf, vfloatK mis_count) {
-  vfloatK g = cos_s / pdf;
-  return g * lane::select(mis_count > vfloatK(0.0f), power_heuristic(mis_count * pdf, cos_s * vfloatK(kInvPi)),
-                          vfloatK(1.0f));
-}
-
-void sample_lights(const WaveContext& ctx, const Chunk& c, vboolK on, bool bsdf_competes, ShadowQueue& q) {
-  const Scene& scene = ctx.scene;
-  const int n = ctx.settings.light_samples;
-  const vfloatK inv_n(1.0f / static_cast<float>(n));
-  const vfloatK mis_count(bsdf_competes ? static_cast<float>(n) : 0.0f);
+/// Direct light: shadow rays of the light samples (each with the radiance it
+/// brings, times the path's throughput and BSDF), or the probe rays of the
+/// hit-based estimators.
+void sample_direct_light(const WaveContext& ctx, const Chunk& c, ShadeOutputs& out) {
   const V3 beta_f = throughput_times_bsdf(c);
-  uint32_t k = 0;
-  vfloatK u1, u2;
-  for (const AreaLight& light : scene.area_lights)
-    for (int j = 0; j < n; ++j, ++k) {
-      c.ps.get2d(c.vertex, dims::light_dim(k), u1, u2);
-      AreaLightSampleT<vfloatK> ls = sample_area_light<vfloatK>(light, c.s.p.x, c.s.p.y, c.s.p.z, u1, u2);
-      vfloatK g = light_factor(dot(c.s.ns, ls.wi), ls.pdf, mis_count) * inv_n;
-      push_light_sample(c, on && ls.facing, ls.wi, ls.dist * vfloatK(1.0f - kShadowRayShrink),
-                        light_weight(beta_f, light.radiance, g), q);
-    }
-  for (const PointLight& light : scene.point_lights) {
-    V3 d{vfloatK(light.position.x) - c.s.p.x, vfloatK(light.position.y) - c.s.p.y, vfloatK(light.position.z) - c.s.p.z};
-    vfloatK dist = xsimd::sqrt(dot(d, d));
-    vfloatK inv = vfloatK(1.0f) / dist;
-    V3 wi{d.x * inv, d.y * inv, d.z * inv};
-    push_light_sample(c, on && dist > vfloatK(0.0f), wi, dist * vfloatK(1.0f - kShadowRayShrink),
-                      light_weight(beta_f, light.radiance, dot(c.s.ns, wi)), q);
+  if (ctx.settings.direct_by_hitting()) {
+    sample_hemisphere_rays(ctx.scene, ctx.settings, c.point, c.ps, c.vertex,
+                           [&](vboolK ok, const V3& org, const V3& wi, vfloatK weight) {
+                             push_shadow_lanes(lane_mask(ok), out.hemisphere, org, wi, vfloatK(kInfinity), c.path,
+                                               {beta_f.x * weight, beta_f.y * weight, beta_f.z * weight});
+                           });
+    return;
   }
-  for (const DirectionalLight& light : scene.directional_lights) {
-    V3 wi{vfloatK(light.to_light.x), vfloatK(light.to_light.y), vfloatK(light.to_light.z)};
-    push_light_sample(c, on, wi, vfloatK(kInfinity), light_weight(beta_f, light.radiance, dot(c.s.ns, wi)), q);
-  }
-  if (scene.sky)
-    for (int j = 0; j < n; ++j, ++k) {
-      c.ps.get2d(c.vertex, dims::light_dim(k), u1, u2);
-      V3 wi = sample_sky_direction(u1, u2);
-      vfloatK g = light_factor(dot(c.s.ns, wi), vfloatK(kInv2Pi), mis_count) * inv_n;
-      push_light_sample(c, on, wi, vfloatK(kInfinity), light_weight(beta_f, scene.sky->radiance, g), q);
-    }
-}
-
-/// Hemisphere (-H) or cosine-weighted sampling: rays that find emitters.
-void sample_by_hitting(const WaveContext& ctx, const Chunk& c, vboolK on, ShadowQueue& q) {
-  const RenderSettings& rs = ctx.settings;
-  const uint32_t n = hemisphere_sample_count(ctx.scene, rs);
-  const vfloatK scale(1.0f / static_cast<float>(n));
-  const V3 beta_f = throughput_times_bsdf(c);
-  const bool cosine = rs.direct == DirectLighting::kCosine;
-  vfloatK u1, u2;
-  for (uint32_t k = 0; k < n; ++k) {
-    c.ps.get2d(c.vertex, dims::light_dim(k), u1, u2);
-    V3 local = cosine ? sample_cosine_hemisphere(u1, u2) : sample_uniform_hemisphere(u1, u2);
-    V3 wi = to_world(c.s.ns.x, c.s.ns.y, c.s.ns.z, local.x, local.y, local.z);
-    vboolK ok = on && dot(c.s.ng, wi) > vfloatK(0.0f);
-    vfloatK g = hit_sampling_weight(rs, local.z) * scale;
-    V3 w{beta_f.x * g, beta_f.y * g, beta_f.z * g};
-    push_shadow_lanes(lane_mask(ok), q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, vfloatK(kInfinity), c.path, w);
-  }
+  sample_light_sources(ctx.scene, ctx.settings, c.point, c.ps, c.vertex, ctx.rules.bsdf_competes(c.vertex),
+                       [&](vboolK ok, const V3& org, const V3& wi, vfloatK tmax, const V3& weight) {
+                         push_shadow_lanes(lane_mask(ok), out.shadows, org, wi, tmax, c.path, times(beta_f, weight));
+                       });
 }
 
 /// Cosine-weighted continuation; throughput *= albedo (f cos / pdf).
 void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
-  vfloatK u1, u2;
-  c.ps.get2d(c.vertex, dims::kBsdf, u1, u2);
-  V3 local = sample_cosine_hemisphere(u1, u2);
-  V3 wi = to_world(c.s.ns.x, c.s.ns.y, c.s.ns.z, local.x, local.y, local.z);
-  vboolK ok = c.reflects && dot(wi, c.s.ng) > vfloatK(0.0f);
-  uint32_t mask = lane_mask(ok);
+  BsdfSampleT<vfloatK> bs = sample_lambertian(c.point, c.ps, c.vertex);
+  uint32_t mask = lane_mask(bs.ok);
   if (!mask) return;
   LaneFloats br(c.beta.x * c.albedo.x), bg(c.beta.y * c.albedo.y), bb(c.beta.z * c.albedo.z);
-  LaneFloats pdf(local.z * vfloatK(kInvPi));
+  LaneFloats pdf(bs.pdf);
   LaneUints path(c.path);
   for_each_lane(mask, [&](size_t l) {
     paths.beta_r[path[l]] = br[l];
@@ -168,7 +102,7 @@ void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
     paths.beta_b[path[l]] = bb[l];
     paths.bsdf_pdf[path[l]] = pdf[l];
   });
-  push_ray_lanes(mask, q, offset_origin(c.s.p, c.s.ng, c.s.offset, wi), wi, c.path);
+  push_ray_lanes(mask, q, offset_origin(c.point.p, c.point.ng, c.point.offset, bs.wi), bs.wi, c.path);
 }
 
 }  // namespace
@@ -177,12 +111,9 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
                     PathState& paths, ShadeOutputs out) {
   const RenderSettings& rs = ctx.settings;
   const uint32_t vertex = depth + 1;
-  const bool direct = rs.counts_bounce(static_cast<int>(vertex));
-  const bool continues = static_cast<int>(vertex) < rs.max_depth;
-  const bool samples_bsdf = continues || (static_cast<int>(vertex) == rs.max_depth && ctx.final_bounce);
-  const bool escapes_count = depth == 0 || (rs.direct == DirectLighting::kMis && ctx.sky_visible &&
-                                            static_cast<int>(depth) < rs.max_depth &&
-                                            rs.counts_bounce(static_cast<int>(depth)));
+  const bool direct = ctx.rules.estimates_direct_light(vertex);
+  const bool samples_bsdf = ctx.rules.traces_bsdf_ray(vertex);
+  const bool escapes_count = depth == 0 || ctx.rules.counts_escape(depth, ctx.sky_visible);
   const size_t n = rays.size;
   out.shadows.reserve(n * ctx.shadow_rays_per_vertex);
   out.hemisphere.reserve(rs.direct_by_hitting() ? n * ctx.shadow_rays_per_vertex : 0);
@@ -200,20 +131,16 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
     if (!direct && !samples_bsdf) continue;
 
     vintK path = xsimd::select(as_int_mask(s.valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));
-    Chunk c{s,
+    V3 albedo = gather3(mats.albedo_r, mats.albedo_g, mats.albedo_b, s.material);
+    const vfloatK zero(0.0f);
+    vboolK reflects = s.hit && (albedo.x != zero || albedo.y != zero || albedo.z != zero);
+    Chunk c{{s.p, s.ng, s.ns, s.offset, reflects},
             xsimd::bitwise_cast<vuintK>(path),
             SamplerK(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path)),
             gather3(paths.beta_r, paths.beta_g, paths.beta_b, path),
-            gather3(mats.albedo_r, mats.albedo_g, mats.albedo_b, s.material),
-            vboolK(false),
+            albedo,
             vertex};
-    vfloatK zero(0.0f);
-    c.reflects = s.hit && (c.albedo.x != zero || c.albedo.y != zero || c.albedo.z != zero);
-
-    if (direct) {
-      if (rs.direct_by_hitting()) sample_by_hitting(ctx, c, c.reflects, out.hemisphere);
-      else sample_lights(ctx, c, c.reflects, rs.direct == DirectLighting::kMis && continues, out.shadows);
-    }
+    if (direct) sample_direct_light(ctx, c, out);
     if (samples_bsdf) sample_bsdf(c, paths, out.continuations);
   }
 }

@@ -33,8 +33,8 @@ WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& 
       camera(c),
       settings(rs),
       materials(s),
-      sky_visible(s.sky && !rs.cs184_invisible_sky),
-      final_bounce(traces_final_bounce(s, rs)) {
+      rules(s, rs),
+      sky_visible(s.sky && !rs.cs184_invisible_sky) {
   if (rs.direct_by_hitting()) {
     shadow_rays_per_vertex = hemisphere_sample_count(s, rs);
   } else {

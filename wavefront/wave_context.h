@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "kernels/camera.h"
+#include "kernels/path_rules.h"
 #include "kernels/render_settings.h"
 #include "kernels/scene.h"
 #include "soa.h"
@@ -38,9 +39,9 @@ struct WaveContext {
   const Camera& camera;
   const RenderSettings& settings;
   MaterialArrays materials;
+  PathRules rules;
   uint32_t shadow_rays_per_vertex;  ///< upper bound, for queue sizes
   bool sky_visible;                 ///< escaped rays see the sky
-  bool final_bounce;                ///< see traces_final_bounce (kernels/shading.h)
 
   WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs);
 };

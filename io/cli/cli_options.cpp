@@ -95,6 +95,7 @@ void Converter::convert(const RawValues& raw) {
   number("--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
          [](double v) { return v > 0.0; }, o_.checkpoint_every);
   choice("--engine", "engine", raw.engine, kEngines, o_.engine);
+  if (o_.engine == Engine::kReference) o_.accel = AccelChoice::kBvh2;  // its default
   choice("--bvh", "acceleration structure", raw.bvh, kAccels, o_.accel);
   choice("--bounces", "bounce mode", raw.bounces, kBounceModes, s.bounces);
   choice("--direct", "direct light estimator", raw.direct, kDirectModes, s.direct);
@@ -133,6 +134,8 @@ std::string validate(const Options& o) {
   if (o.reference_image.empty() != o.convergence_csv.empty()) return "--reference and --convergence-csv go together";
   if (o.label.empty() || o.label.find_first_of(",\"\n\r") != std::string::npos)
     return "--label: must be non-empty without commas, quotes or line breaks (it is a CSV field)";
+  if (o.engine == Engine::kReference && o.accel == AccelChoice::kBvh4)
+    return "--bvh bvh4: the reference engine traces only with bvh2 or none (it is the 4-wide BVH's arbiter)";
   if (!o.checkpoint_file.empty() && o.engine == Engine::kReference)
     return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
   return {};
@@ -216,7 +219,9 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("INT");
   app.add_option("--engine", raw.engine, "Render engine: reference, wavefront or megakernel; wavefront")
       ->type_name("NAME");
-  app.add_option("--bvh", raw.bvh, "Acceleration structure: bvh4, bvh2 (midpoint split) or none (brute force); bvh4")
+  app.add_option("--bvh", raw.bvh,
+                 "Acceleration structure: bvh4, bvh2 (midpoint split) or none (brute force); bvh4 (bvh2 for the "
+                 "reference engine)")
       ->type_name("NAME");
   integer("--leaf-size", raw.leaf_size, "Maximum primitives per leaf of the bvh2 build; 4");
   integer("--seed", raw.seed, "Random seed; 0");

@@ -7,7 +7,7 @@
 #include "bvh/scene_bvh4.h"
 #include "cli_options.h"
 #include "kernels/render_job.h"
-#include "tests/reference/reference_accel.h"
+#include "bvh/scene_bvh2.h"
 
 namespace pt::cli {
 
@@ -24,15 +24,15 @@ class EngineRunner {
   bool pass_based() const { return options_.engine != Engine::kReference; }
   double build_seconds() const { return build_seconds_; }
   /// Bytes of the acceleration structure the engine traces: allocated, and in use.
-  size_t accel_bytes() const { return bvh4_ ? bvh4_->bytes() : reference_accel_->bytes(); }
-  size_t accel_used_bytes() const { return bvh4_ ? bvh4_->used_bytes() : reference_accel_->used_bytes(); }
+  size_t accel_bytes() const { return bvh4_ ? bvh4_->bytes() : bvh2_->bytes(); }
+  size_t accel_used_bytes() const { return bvh4_ ? bvh4_->used_bytes() : bvh2_->used_bytes(); }
 
  private:
   const Options& options_;
   const Scene& scene_;
   const Camera& camera_;
-  std::unique_ptr<reference::ReferenceAccel> reference_accel_;  ///< reference engine, or --bvh bvh2 / none
-  std::unique_ptr<SceneBvh4> bvh4_;                             ///< wavefront / megakernel with --bvh bvh4
+  std::unique_ptr<SceneBvh2> bvh2_;  ///< --bvh bvh2 / none (the reference engine's only kind)
+  std::unique_ptr<SceneBvh4> bvh4_;  ///< --bvh bvh4 (wavefront / megakernel)
   double build_seconds_ = 0.0;
 };
 

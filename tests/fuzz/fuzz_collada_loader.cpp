@@ -14,7 +14,7 @@
 #include "io/collada_loader.h"
 #include "io/scene_error.h"
 #include "scene_invariants.h"
-#include "tests/reference/reference_renderer.h"
+#include "reference/reference_renderer.h"
 
 namespace {
 

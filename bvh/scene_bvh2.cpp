@@ -1,16 +1,14 @@
-// ReferenceAccel: build and the two queries.
-#include "reference_accel.h"
+// SceneBvh2: build and the two queries.
+#include "scene_bvh2.h"
 
-#include "bvh/bvh2_traverse.h"
+#include "bvh2_traverse.h"
 #include "kernels/sphere_intersect.h"
 #include "kernels/triangle_intersect.h"
 
-namespace pt::reference {
+namespace pt {
 
-ReferenceAccel::ReferenceAccel(const Scene& scene, AccelMode mode, uint32_t max_leaf_size)
-    : scene_(scene), mode_(mode) {
-  if (mode_ == AccelMode::kBvh4) bvh4_ = std::make_unique<SceneBvh4>(scene);
-  if (mode_ != AccelMode::kBvh) return;
+SceneBvh2::SceneBvh2(const Scene& scene, Bvh2Mode mode, uint32_t max_leaf_size) : scene_(scene), mode_(mode) {
+  if (mode_ != Bvh2Mode::kMidpoint) return;
   std::vector<BBox> boxes;
   std::vector<float3> centers;
   boxes.reserve(scene.primitive_count());
@@ -25,7 +23,7 @@ ReferenceAccel::ReferenceAccel(const Scene& scene, AccelMode mode, uint32_t max_
   bvh_ = build_bvh2_midpoint(boxes, centers, max_leaf_size);
 }
 
-bool ReferenceAccel::test_primitive(uint32_t prim, const Ray& ray, float tmax, Hit& hit) const {
+bool SceneBvh2::test_primitive(uint32_t prim, const Ray& ray, float tmax, Hit& hit) const {
   uint32_t n_tri = static_cast<uint32_t>(scene_.triangles.size());
   float t, u = 0, v = 0;
   if (prim < n_tri) {
@@ -42,18 +40,12 @@ bool ReferenceAccel::test_primitive(uint32_t prim, const Ray& ray, float tmax, H
   return true;
 }
 
-bool ReferenceAccel::intersect(const Ray& ray, Hit& hit, uint64_t& tests) const {
-  if (mode_ == AccelMode::kBvh4) {
-    TraversalCounters c;
-    bool found = bvh4_->intersect(ray, hit, c);
-    tests += c.primitives;
-    return found;
-  }
+bool SceneBvh2::intersect(const Ray& ray, Hit& hit, uint64_t& tests) const {
   hit = Hit{};
   hit.t = ray.tmax;
   float tmax = ray.tmax;
   bool found = false;
-  if (mode_ == AccelMode::kBruteForce) {
+  if (mode_ == Bvh2Mode::kBruteForce) {
     uint32_t n = static_cast<uint32_t>(scene_.primitive_count());
     for (uint32_t p = 0; p < n; ++p) found |= test_primitive(p, ray, hit.t, hit);
     tests += n;
@@ -69,15 +61,9 @@ bool ReferenceAccel::intersect(const Ray& ray, Hit& hit, uint64_t& tests) const 
   return hit.valid();
 }
 
-bool ReferenceAccel::occluded(const Ray& ray, uint64_t& tests) const {
-  if (mode_ == AccelMode::kBvh4) {
-    TraversalCounters c;
-    bool blocked = bvh4_->occluded(ray, c);
-    tests += c.primitives;
-    return blocked;
-  }
+bool SceneBvh2::occluded(const Ray& ray, uint64_t& tests) const {
   Hit scratch;
-  if (mode_ == AccelMode::kBruteForce) {
+  if (mode_ == Bvh2Mode::kBruteForce) {
     uint32_t n = static_cast<uint32_t>(scene_.primitive_count());
     for (uint32_t p = 0; p < n; ++p) {
       ++tests;
@@ -95,4 +81,4 @@ bool ReferenceAccel::occluded(const Ray& ray, uint64_t& tests) const {
   });
 }
 
-}  // namespace pt::reference
+}  // namespace pt

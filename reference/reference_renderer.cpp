@@ -23,22 +23,16 @@ Region render_region(const RenderSettings& rs) {
 
 }  // namespace
 
-float3 reference_sample(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
-                        const RenderSettings& rs, int x, int y, uint32_t sample, RenderStats& stats) {
-  PathSampler ps(rs, pixel_index(rs, x, y), sample);
-  return ReferenceIntegrator<>(scene, accel, rs).radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats);
-}
-
 RenderOutput render_reference(const Scene& scene, const Camera& camera, const RenderSettings& rs,
                               const ReferenceOptions& options, const RenderControl& control) {
-  ReferenceAccel accel(scene, options.accel, options.max_leaf_size);
+  SceneBvh2 accel(scene, options.accel, options.max_leaf_size);
   return render_reference(scene, accel, camera, rs, control);
 }
 
-RenderOutput render_reference(const Scene& scene, const ReferenceAccel& accel, const Camera& camera,
+RenderOutput render_reference(const Scene& scene, const SceneBvh2& accel, const Camera& camera,
                               const RenderSettings& rs, const RenderControl& control) {
   auto start = std::chrono::steady_clock::now();
-  ReferenceIntegrator<> integrator(scene, accel, rs);
+  ReferenceIntegrator integrator(scene, accel, rs);
   RenderOutput out;
   out.film = Film(rs.width, rs.height, static_cast<uint32_t>(rs.samples_per_pixel));
   Region region = render_region(rs);

@@ -1,12 +1,14 @@
-// Ray tracers the engines run on, behind one small interface:
-// intersect(ray, hit, tests) and occluded(ray, tests), where `tests` counts
-// primitive tests when the tracer counts them.
+// The ray tracers the SIMD engines (wavefront, megakernel) run on, behind one
+// small interface: intersect(ray, hit, tests), occluded(ray, tests) and their
+// packet forms over the lanes set in a mask, where `tests` counts primitive
+// tests when the tracer counts them. For code compiled per instruction-set
+// level (the BVH4's queries are inlined).
 #pragma once
 
-#include "bvh/scene_bvh4_queries.h"
-#include "tests/reference/reference_accel.h"
+#include "scene_bvh2.h"
+#include "scene_bvh4_queries.h"
 
-namespace pt::wf {
+namespace pt {
 
 /// The 4-wide BVH. kCount: also count primitive tests (off in the fast path;
 /// counting traces packets ray by ray).
@@ -54,10 +56,10 @@ struct Bvh4Tracer {
   }
 };
 
-/// The reference's accelerators (midpoint binary BVH, or brute force); no
-/// packet traversal, so packets are traced ray by ray.
+/// The midpoint binary BVH, or brute force; no packet traversal, so packets
+/// are traced ray by ray.
 struct Bvh2Tracer {
-  const reference::ReferenceAccel& accel;
+  const SceneBvh2& accel;
   void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes, uint64_t& tests) const {
     for (uint32_t m = lanes; m; m &= m - 1) {
       uint32_t i = __builtin_ctz(m);
@@ -74,4 +76,4 @@ struct Bvh2Tracer {
   bool occluded(const Ray& r, uint64_t& tests) const { return accel.occluded(r, tests); }
 };
 
-}  // namespace pt::wf
+}  // namespace pt
