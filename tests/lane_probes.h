@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "kernels/isa.h"
+#include "wavefront/streams.h"
 
 namespace pt::test {
 
@@ -32,6 +33,10 @@ struct LaneProbes {
   /// Smallest and largest of K values.
   float (*reduce_min)(const float* in);
   float (*reduce_max)(const float* in);
+  /// Stream compaction as the stages do it (soa_lanes.h): for each chunk c of
+  /// K items of `in`, the lanes set in masks[c] are appended to `out`.
+  void (*compact_rays)(const wf::RayQueue& in, const uint32_t* masks, wf::RayQueue& out);
+  void (*compact_shadows)(const wf::ShadowQueue& in, const uint32_t* masks, wf::ShadowQueue& out);
 };
 
 /// The probes of a compiled level (IsaError otherwise).

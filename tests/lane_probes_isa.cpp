@@ -3,6 +3,7 @@
 #include "kernels/sampling.h"
 #include "kernels/simd.h"
 #include "lane_probes.h"
+#include "wavefront/soa_lanes.h"
 
 namespace pt::test {
 namespace {
@@ -49,6 +50,10 @@ void gather_floats(const float* base, const int32_t* index, float* out) {
 float min_of(const float* in) { return reduce_min_k(vfloatK::load_unaligned(in)); }
 float max_of(const float* in) { return reduce_max_k(vfloatK::load_unaligned(in)); }
 
+template <class Stream> void compact(const Stream& in, const uint32_t* masks, Stream& out) {
+  for (size_t i0 = 0; i0 < in.size; i0 += kLanes) wf::append_lanes(out, masks[i0 / kLanes], wf::load_lanes(in, i0));
+}
+
 }  // namespace
 }  // namespace pt::test
 
@@ -66,5 +71,7 @@ const test::LaneProbes kLaneProbes = {
     .gather = test::gather_floats,
     .reduce_min = test::min_of,
     .reduce_max = test::max_of,
+    .compact_rays = test::compact<wf::RayQueue>,
+    .compact_shadows = test::compact<wf::ShadowQueue>,
 };
 }  // namespace pt::PT_ISA_NS

@@ -1,8 +1,6 @@
 // russian_roulette: SIMD decisions, compressed stores for the compaction.
 #include "russian_roulette.h"
 
-#include <algorithm>
-
 #include "kernels/path_rules.h"
 #include "kernels/random.h"
 #include "kernels/sample_dimensions.h"
@@ -10,28 +8,6 @@
 #include "lane_output.h"
 
 namespace pt::wf {
-namespace {
-
-/// Appends candidates [i0, i0 + K) selected by `mask` to `next`.
-void append_survivors(const RayQueue& c, size_t i0, uint32_t mask, RayQueue& next) {
-  reserve_lanes(next);
-  size_t at = next.size;
-  auto copy = [&](const AlignedVector<float>& from, AlignedVector<float>& to) {
-    store_compressed(&to[at], mask, vfloatK::load_aligned(&from[i0]));
-  };
-  copy(c.org_x, next.org_x);
-  copy(c.org_y, next.org_y);
-  copy(c.org_z, next.org_z);
-  copy(c.tmin, next.tmin);
-  copy(c.dir_x, next.dir_x);
-  copy(c.dir_y, next.dir_y);
-  copy(c.dir_z, next.dir_z);
-  copy(c.tmax, next.tmax);
-  store_compressed(&next.path[at], mask, vuintK::load_aligned(&c.path[i0]));
-  next.size += static_cast<size_t>(__builtin_popcount(mask));
-}
-
-}  // namespace
 
 void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, PathState& paths,
                       RayQueue& next) {
@@ -43,7 +19,7 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
     if (!PathRules::roulette_applies(vertex)) {
-      append_survivors(candidates, i0, lane_mask(valid), next);
+      append_lanes(next, lane_mask(valid), load_lanes(candidates, i0));
       continue;
     }
     vuintK path = vuintK::load_aligned(&candidates.path[i0]);
@@ -63,7 +39,7 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
       paths.beta_g[path_id] *= inv_p[l];
       paths.beta_b[path_id] *= inv_p[l];
     });
-    append_survivors(candidates, i0, survive, next);
+    append_lanes(next, survive, load_lanes(candidates, i0));
   }
 }
 

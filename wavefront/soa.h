@@ -1,8 +1,8 @@
 // Structure-of-arrays streams whose fields are declared once, as an X-macro
 // list, and expanded into 64-byte-aligned arrays (padded to the widest SIMD
-// lane count, so kernels never mask tails at any level), a one-item view
-// struct, and get / set / push. Every queue and the path state are built with
-// PT_SOA_STREAM.
+// lane count, so kernels never mask tails at any level) and a one-item
+// struct. Every queue and the path state are built with PT_SOA_STREAM; their
+// K-wide views are generated from the same lists (soa_lanes.h).
 #pragma once
 
 #include <cstddef>
@@ -36,11 +36,10 @@ inline size_t round_up_to_lanes(size_t n) { return (n + kMaxLanes - 1) / kMaxLan
 #define PT_SOA_ITEM_FIELD(type, name) type name;
 #define PT_SOA_RESIZE(type, name) name.resize(n);
 #define PT_SOA_BYTES(type, name) +name.capacity() * sizeof(type)
-#define PT_SOA_GET(type, name) item.name = name[i];
-#define PT_SOA_SET(type, name) name[i] = item.name;
 
 /// Declares, inside a struct, the arrays of FIELDS, `Item` (one element as
-/// plain fields), size/capacity, reserve(), clear(), get(), set(), push().
+/// plain fields: its size is the stream's bytes per item), size/capacity,
+/// reserve(), clear() and bytes(). Lane views: soa_lanes.h.
 #define PT_SOA_STREAM(FIELDS)                                                        \
   FIELDS(PT_SOA_ARRAY)                                                               \
   struct Item {                                                                      \
@@ -58,15 +57,4 @@ inline size_t round_up_to_lanes(size_t n) { return (n + kMaxLanes - 1) / kMaxLan
     }                                                                                \
   }                                                                                  \
   void clear() { size = 0; }                                                         \
-  Item get(size_t i) const {                                                         \
-    Item item;                                                                       \
-    FIELDS(PT_SOA_GET)                                                               \
-    return item;                                                                     \
-  }                                                                                  \
-  void set(size_t i, const Item& item) { FIELDS(PT_SOA_SET) }                        \
-  /** Appends, growing if the caller's reservation was short. */                    \
-  void push(const Item& item) {                                                      \
-    if (size >= capacity) reserve(2 * capacity + ::pt::kMaxLanes);                   \
-    set(size++, item);                                                               \
-  }                                                                                  \
   size_t bytes() const { return 0 FIELDS(PT_SOA_BYTES); }

@@ -1,23 +1,36 @@
 // The queues one worker thread reuses from wave to wave: path state, the
 // ray queues of the current and next depth (double-buffered by parity),
-// hits, shadow rays, hemisphere rays and continuation candidates.
+// hits, shadow rays, hemisphere rays and continuation candidates. Listed once
+// (PT_WAVE_BUFFERS) for the members and for their bytes.
 #pragma once
+
+#include <cstddef>
 
 #include "streams.h"
 
 namespace pt::wf {
 
+/// X(type, name, extent): a member `type name extent`.
+#define PT_WAVE_BUFFERS(X)                                                              \
+  X(PathState, paths, ) X(RayQueue, rays, [2]) X(HitQueue, hits, ) X(ShadowQueue, shadows, ) \
+  X(ShadowQueue, hemisphere, ) X(RayQueue, continuations, )
+
+template <class Stream> inline size_t stream_bytes(const Stream& s) { return s.bytes(); }
+template <class Stream, size_t N> inline size_t stream_bytes(const Stream (&s)[N]) {
+  size_t b = 0;
+  for (const Stream& x : s) b += x.bytes();
+  return b;
+}
+
 struct WaveBuffers {
-  PathState paths;
-  RayQueue rays[2];
-  HitQueue hits;
-  ShadowQueue shadows;
-  ShadowQueue hemisphere;
-  RayQueue continuations;
+#define PT_WAVE_MEMBER(type, name, extent) type name extent;
+  PT_WAVE_BUFFERS(PT_WAVE_MEMBER)
+#undef PT_WAVE_MEMBER
 
   size_t bytes() const {
-    return paths.bytes() + rays[0].bytes() + rays[1].bytes() + hits.bytes() + shadows.bytes() + hemisphere.bytes() +
-           continuations.bytes();
+#define PT_WAVE_BYTES(type, name, extent) +stream_bytes(name)
+    return 0 PT_WAVE_BUFFERS(PT_WAVE_BYTES);
+#undef PT_WAVE_BYTES
   }
 };
 

@@ -1,0 +1,87 @@
+// Stream compaction carries every field a stream declares: each field of
+// every item gets a distinct value, the queues the stages compact (rays,
+// shadow rays) are compacted under random lane masks at the level in use, and
+// each survivor must arrive with all its fields, in order. The field lists
+// are the streams' own (streams.h), so a field added there is checked here.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "kernels/isa.h"
+#include "lane_probes.h"
+#include "wavefront/streams.h"
+
+namespace pt {
+namespace {
+
+/// Distinct values: field f of item i holds 100000 f + i.
+#define PT_FILL_FIELD(T, name)                                  \
+  for (size_t i = 0; i < n; ++i) q.name[i] = static_cast<T>(100000 * field + i); \
+  ++field;
+#define PT_CHECK_FIELD(T, name)                                                            \
+  for (size_t k = 0; k < kept.size(); ++k)                                                 \
+    ASSERT_EQ(out.name[k], in.name[kept[k]]) << #name << " of survivor " << k << " (item " << kept[k] << ")";
+
+template <class Queue> std::vector<uint32_t> random_masks(size_t n, size_t lanes, std::mt19937& rng) {
+  std::vector<uint32_t> masks((n + lanes - 1) / lanes);
+  for (size_t c = 0; c < masks.size(); ++c) {
+    masks[c] = static_cast<uint32_t>(rng()) & lanes_below(lanes);
+    if (c % 7 == 0) masks[c] = 0;
+    if (c % 11 == 0) masks[c] = lanes_below(lanes);
+    size_t valid = std::min(lanes, n - c * lanes);  // lanes past the end hold no item
+    masks[c] &= lanes_below(valid);
+  }
+  return masks;
+}
+
+std::vector<size_t> survivors(const std::vector<uint32_t>& masks, size_t lanes) {
+  std::vector<size_t> kept;
+  for (size_t c = 0; c < masks.size(); ++c)
+    for (size_t l = 0; l < lanes; ++l)
+      if (masks[c] >> l & 1) kept.push_back(c * lanes + l);
+  return kept;
+}
+
+TEST(StreamCompaction, EveryFieldOfARayReachesTheNextQueue) {
+  const test::LaneProbes& probes = test::lane_probes(active_isa());
+  std::mt19937 rng(3);
+  for (size_t n : {size_t(1), probes.lanes, 3 * probes.lanes + 1, size_t(1000)}) {
+    wf::RayQueue in, out;
+    in.reserve(n);
+    in.size = n;
+    {
+      wf::RayQueue& q = in;
+      uint32_t field = 0;
+      PT_RAY_FIELDS(PT_FILL_FIELD)
+    }
+    std::vector<uint32_t> masks = random_masks<wf::RayQueue>(n, probes.lanes, rng);
+    probes.compact_rays(in, masks.data(), out);
+    std::vector<size_t> kept = survivors(masks, probes.lanes);
+    ASSERT_EQ(out.size, kept.size());
+    PT_RAY_FIELDS(PT_CHECK_FIELD)
+  }
+}
+
+TEST(StreamCompaction, EveryFieldOfAShadowRayReachesTheNextQueue) {
+  const test::LaneProbes& probes = test::lane_probes(active_isa());
+  std::mt19937 rng(4);
+  for (size_t n : {size_t(1), probes.lanes, 3 * probes.lanes + 1, size_t(1000)}) {
+    wf::ShadowQueue in, out;
+    in.reserve(n);
+    in.size = n;
+    {
+      wf::ShadowQueue& q = in;
+      uint32_t field = 0;
+      PT_SHADOW_FIELDS(PT_FILL_FIELD)
+    }
+    std::vector<uint32_t> masks = random_masks<wf::ShadowQueue>(n, probes.lanes, rng);
+    probes.compact_shadows(in, masks.data(), out);
+    std::vector<size_t> kept = survivors(masks, probes.lanes);
+    ASSERT_EQ(out.size, kept.size());
+    PT_SHADOW_FIELDS(PT_CHECK_FIELD)
+  }
+}
+
+}  // namespace
+}  // namespace pt
