@@ -37,8 +37,8 @@ SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions&
   run_chunks(first.size(), 2, [&](size_t b, size_t e) {
     for (size_t i = b; i < e; ++i) bvh4_->intersect(sets_[0].rays[i], first[i]);
   });
-  sets_[1] = diffuse_rays(scene_, sets_[0], first, 1);
-  sets_[2] = shadow_rays(scene_, sets_[0], first, 2);
+  sets_[1] = {RayKind::kDiffuse, diffuse_rays(scene_, sets_[0].rays, first, 1, /*shuffle=*/true)};
+  sets_[2] = {RayKind::kShadow, shadow_rays(scene_, sets_[0].rays, first, 2, /*shuffle=*/true)};
   bvh2_ = std::make_unique<SceneBvh2>(scene_, Bvh2Mode::kMidpoint);
   for (int k = 0; k < 3; ++k) {
     const std::vector<Ray>& rays = sets_[k].rays;
@@ -65,10 +65,11 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
                        }};
   packets.primary_only = true;
   tracers_.push_back(packets);
+  incoherent_ = std::make_unique<IncoherentBatches>(*bvh4_, scene_);
   TracerEntry incoherent{"bvh4_incoherent", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
                             std::span<const Ray> rays = std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b);
-                            if (kind == RayKind::kShadow) bvh4_->occluded_incoherent(rays, std::span<uint8_t>(blocked + b, e - b));
-                            else bvh4_->intersect_incoherent(rays, std::span<Hit>(hits + b, e - b));
+                            if (kind == RayKind::kShadow) incoherent_->occluded(rays, std::span<uint8_t>(blocked + b, e - b));
+                            else incoherent_->intersect(rays, std::span<Hit>(hits + b, e - b));
                           }};
   incoherent.whole_set = true;
   tracers_.push_back(incoherent);

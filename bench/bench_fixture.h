@@ -12,6 +12,7 @@
 
 #include "bvh/scene_bvh4.h"
 #include "kernels/scene.h"
+#include "incoherent_batch.h"
 #include "ray_sets.h"
 #include "bvh/scene_bvh2.h"
 #ifdef PT_HAVE_EMBREE
@@ -92,6 +93,7 @@ class SceneFixture {
   std::vector<Hit> oracle_hits_[3];
   std::vector<uint8_t> oracle_blocked_[3];
   std::unique_ptr<SceneBvh4> bvh4_, bvh4_watertight_;
+  std::unique_ptr<IncoherentBatches> incoherent_;
   std::unique_ptr<SceneBvh2> bvh2_, brute_;
 #ifdef PT_HAVE_EMBREE
   std::unique_ptr<EmbreeTracer> embree_high_, embree_default_;

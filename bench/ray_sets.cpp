@@ -39,39 +39,52 @@ const char* ray_kind_name(RayKind k) {
   return "?";
 }
 
-RaySet primary_rays(const Scene& scene, int w, int h) {
+std::vector<Ray> camera_rays(const Scene& scene, int w, int h, float window) {
   Camera cam = resolve_camera(scene, w, h);
-  std::vector<std::pair<uint32_t, Ray>> keyed;
-  keyed.reserve(size_t(w) * h);
+  std::vector<Ray> rays;
+  rays.reserve(size_t(w) * h);
+  float margin = 0.5f * (1.0f - window);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      keyed.push_back({morton2(x, y), camera_ray(cam, (x + 0.5f) / w, 1.0f - (y + 0.5f) / h)});
-  std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  RaySet set{RayKind::kPrimary, {}};
-  for (const auto& k : keyed) set.rays.push_back(k.second);
-  return set;
+      rays.push_back(camera_ray(cam, margin + window * (x + 0.5f) / w, 1.0f - margin - window * (y + 0.5f) / h));
+  return rays;
 }
 
-RaySet diffuse_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, uint32_t seed) {
+std::vector<Ray> uniform_random_rays(const Scene& scene, size_t n, uint32_t seed) {
   std::mt19937 rng(seed);
-  RaySet set{RayKind::kDiffuse, {}};
+  float3 lo = scene.bounds.lower - scene.bounds.extent() * 0.05f, ext = scene.bounds.extent() * 1.1f;
+  std::vector<Ray> rays(n);
+  for (Ray& r : rays) {
+    float x = uniform01(rng), y = uniform01(rng), z = uniform01(rng);
+    r.org = lo + float3{x, y, z} * ext;
+    float u1 = uniform01(rng), u2 = uniform01(rng);
+    r.dir = to_float3(sample_uniform_sphere(u1, u2));
+  }
+  return rays;
+}
+
+std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits, uint32_t seed,
+                              bool shuffle) {
+  std::mt19937 rng(seed);
+  std::vector<Ray> out;
   for (size_t i = 0; i < hits.size(); ++i) {
     if (!hits[i].valid()) continue;
-    SurfacePoint sp = surface_at(scene, primary.rays[i], hits[i]);
+    SurfacePoint sp = surface_at(scene, rays[i], hits[i]);
     float u1 = uniform01(rng), u2 = uniform01(rng);
     float3 dir = to_world(sp.ng, to_float3(sample_cosine_hemisphere(u1, u2)));
-    set.rays.push_back({offset_origin(sp, dir), 0.0f, dir, kInfinity});
+    out.push_back({offset_origin(sp, dir), 0.0f, dir, kInfinity});
   }
-  std::shuffle(set.rays.begin(), set.rays.end(), rng);
-  return set;
+  if (shuffle) std::shuffle(out.begin(), out.end(), rng);
+  return out;
 }
 
-RaySet shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, uint32_t seed) {
+std::vector<Ray> shadow_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits, uint32_t seed,
+                             bool shuffle) {
   std::mt19937 rng(seed);
-  RaySet set{RayKind::kShadow, {}};
+  std::vector<Ray> out;
   for (size_t i = 0; i < hits.size(); ++i) {
     if (!hits[i].valid()) continue;
-    SurfacePoint sp = surface_at(scene, primary.rays[i], hits[i]);
+    SurfacePoint sp = surface_at(scene, rays[i], hits[i]);
     float u1 = uniform01(rng), u2 = uniform01(rng);
     float3 dir;
     float tmax = kInfinity;
@@ -86,9 +99,22 @@ RaySet shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<
       Vec3T<float> h = sample_uniform_hemisphere(u1, u2);
       dir = float3{h.x, h.z, h.y};
     }
-    set.rays.push_back({offset_origin(sp, dir), 0.0f, dir, tmax});
+    out.push_back({offset_origin(sp, dir), 0.0f, dir, tmax});
   }
-  std::shuffle(set.rays.begin(), set.rays.end(), rng);
+  if (shuffle) std::shuffle(out.begin(), out.end(), rng);
+  return out;
+}
+
+RaySet primary_rays(const Scene& scene, int w, int h) {
+  std::vector<Ray> rows = camera_rays(scene, w, h);
+  std::vector<std::pair<uint32_t, size_t>> keyed;
+  keyed.reserve(rows.size());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) keyed.push_back({morton2(x, y), size_t(y) * w + x});
+  std::sort(keyed.begin(), keyed.end());
+  RaySet set{RayKind::kPrimary, {}};
+  set.rays.reserve(rows.size());
+  for (const auto& k : keyed) set.rays.push_back(rows[k.second]);
   return set;
 }
 

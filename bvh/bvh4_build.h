@@ -25,10 +25,6 @@ struct Bvh4Options {
   bool watertight = false;  ///< leaves for the watertight test instead of Moller-Trumbore
   SahBuildOptions sah{.bins = 32, .max_leaf_size = 1, .leaf_block = 4, .traversal_cost = 1.0f, .ray_length = 0.5f};
   CollapseCosts collapse{.node = 1.0f, .leaf = 0.7f, .block = 0.3f, .max_leaf_size = 16, .ray_length = 0.5f};
-  /// SceneBvh4's incoherent batches reorder rays when the tree has at least this
-  /// many bytes (measured on this project's machine, 1 MiB of L2 per core:
-  /// reordering loses below 2 MiB and wins above 20 MiB).
-  size_t reorder_min_bytes = size_t(4) << 20;
 };
 
 struct Bvh4BuildStats {

@@ -25,8 +25,6 @@ struct Bvh4QueryTable {
   void (*intersect_packets)(const SceneBvh4&, std::span<const Ray>, std::span<Hit>);
   void (*intersect_packet)(const SceneBvh4&, const Ray*, Hit*, uint32_t lanes);
   uint32_t (*occluded_packet)(const SceneBvh4&, const Ray*, uint32_t lanes);
-  void (*intersect_incoherent)(const SceneBvh4&, std::span<const Ray>, std::span<Hit>);
-  void (*occluded_incoherent)(const SceneBvh4&, std::span<const Ray>, std::span<uint8_t>);
 };
 
 /// The table of a level compiled into this binary (IsaError otherwise).

@@ -6,15 +6,10 @@ namespace pt {
 SceneBvh4::SceneBvh4(const Scene& scene, const Bvh4Options& options) : SceneBvh4(scene, options, active_isa()) {}
 
 SceneBvh4::SceneBvh4(const Scene& scene, const Bvh4Options& options, Isa isa)
-    : reorder_min_bytes_(options.reorder_min_bytes), queries_(&bvh4_query_table(isa)) {
+    : queries_(&bvh4_query_table(isa)) {
   bvh_ = build_bvh4(scene.positions, scene.triangles, options, &stats_);
   spheres_.reserve(scene.spheres.size());
-  for (const Sphere& s : scene.spheres) {
-    spheres_.push_back({s.center, s.radius});
-    bounds_.expand(BBox{s.center - float3(s.radius), s.center + float3(s.radius)});
-  }
-  for (const float3& p : scene.positions)
-    if (is_finite(p)) bounds_.expand(p);
+  for (const Sphere& s : scene.spheres) spheres_.push_back({s.center, s.radius});
 }
 
 }  // namespace pt

@@ -74,19 +74,6 @@ class SceneBvh4 {
   /// Fastest when the rays are coherent (shadow rays of one pixel's samples).
   uint32_t occluded_packet(const Ray* rays, uint32_t lanes) const { return queries_->occluded_packet(*this, rays, lanes); }
 
-  /// Closest hits of a large batch of incoherent rays (bounce rays), traced one
-  /// by one in parallel in the calling oneTBB arena. When the BVH has at least
-  /// Bvh4Options::reorder_min_bytes they are traced in the order of coherent_order (ray_order.h):
-  /// sorting costs less than the cache misses it saves only when the tree does
-  /// not fit the caches. Same answers as the single-ray query.
-  void intersect_incoherent(std::span<const Ray> rays, std::span<Hit> hits) const {
-    queries_->intersect_incoherent(*this, rays, hits);
-  }
-  /// Occlusion of a large batch of incoherent rays, likewise: blocked[i] = 0 or 1.
-  void occluded_incoherent(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
-    queries_->occluded_incoherent(*this, rays, blocked);
-  }
-
   /// The instruction-set level the queries run at.
   Isa isa() const { return queries_->isa; }
   const Bvh4BuildStats& stats() const { return stats_; }
@@ -100,15 +87,10 @@ class SceneBvh4 {
   size_t used_bytes() const { return stats_.bytes + spheres_.size() * sizeof(SphereShape); }
   const Bvh4& bvh() const { return bvh_; }
   std::span<const SphereShape> spheres() const { return spheres_; }
-  /// Of all vertices and spheres: the grid of ray_order_key.
-  const BBox& bounds() const { return bounds_; }
-  size_t reorder_min_bytes() const { return reorder_min_bytes_; }
 
  private:
   Bvh4 bvh_;
   std::vector<SphereShape> spheres_;
-  BBox bounds_;
-  size_t reorder_min_bytes_;
   Bvh4BuildStats stats_;
   const Bvh4QueryTable* queries_;
 };

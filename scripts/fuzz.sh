@@ -12,7 +12,7 @@ minutes=${1:-10}
 shift $(( $# > 0 ? 1 : 0 ))
 
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
-  -DPT_FUZZ=ON -DPT_BUILD_TESTS=OFF -DPT_BUILD_BENCH=OFF >/dev/null
+  -DPT_FUZZ=ON -DPT_BUILD_TESTS=ON -DPT_BUILD_BENCH=OFF >/dev/null
 cmake --build build-fuzz --target fuzz_collada_loader
 
 mkdir -p build-fuzz/fuzz-corpus build-fuzz/fuzz-artifacts

@@ -3,13 +3,15 @@
 // single-ray query; entries past the batch and lanes left out
 // of a packet are untouched (and their rays unread); rays that are not
 // traceable or that disagree on direction signs inside a packet; spheres; the
-// watertight form; incoherent batches, reordered or not.
+// watertight form; range queries and the benchmark's incoherent batches,
+// reordered or not.
 #include <algorithm>
 #include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "bench/incoherent_batch.h"
 #include "bvh/scene_bvh4.h"
 #include "test_bvh4_support.h"
 #include "test_support.h"
@@ -141,17 +143,21 @@ TEST(Bvh4Batch, SpheresAreFoundByPackets) {
   EXPECT_GT(sphere_hits, 0);
 }
 
-/// Incoherent batches of rays[0, n), in input order and reordered, against single rays.
+/// The benchmark's incoherent batches of rays[0, n), in input order and
+/// reordered, and the range queries, against single rays.
 void expect_incoherent_batches_match(const Scene& s, const std::vector<Ray>& rays, std::vector<size_t> lengths) {
+  SceneBvh4 bvh(s);
   for (size_t reorder_min_bytes : {size_t(0), SIZE_MAX}) {
-    Bvh4Options options;
-    options.reorder_min_bytes = reorder_min_bytes;
-    SceneBvh4 bvh(s, options);
+    bench::IncoherentBatches batches(bvh, s, reorder_min_bytes);
     for (size_t n : lengths) {
-      std::vector<Hit> hits(n + 4, kSentinel);
-      std::vector<uint8_t> blocked(n + 4, 7);
-      bvh.intersect_incoherent(std::span<const Ray>(rays.data(), n), std::span<Hit>(hits.data(), n));
-      bvh.occluded_incoherent(std::span<const Ray>(rays.data(), n), std::span<uint8_t>(blocked.data(), n));
+      std::vector<Hit> hits(n + 4, kSentinel), each(n + 4, kSentinel);
+      std::vector<uint8_t> blocked(n + 4, 7), blocked_each(n + 4, 7);
+      batches.intersect(std::span<const Ray>(rays.data(), n), std::span<Hit>(hits.data(), n));
+      batches.occluded(std::span<const Ray>(rays.data(), n), std::span<uint8_t>(blocked.data(), n));
+      bvh.intersect_each(std::span<const Ray>(rays.data(), n), std::span<Hit>(each.data(), n));
+      bvh.occluded_each(std::span<const Ray>(rays.data(), n), std::span<uint8_t>(blocked_each.data(), n));
+      EXPECT_EQ(std::memcmp(hits.data(), each.data(), hits.size() * sizeof(Hit)), 0) << "batch of " << n;
+      EXPECT_EQ(blocked, blocked_each) << "batch of " << n;
       int found = 0;
       for (size_t i = 0; i < n; ++i) {
         Hit single;

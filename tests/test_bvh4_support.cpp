@@ -1,80 +1,18 @@
-// Ray sets, hit equality and the sphere mesh of the BVH4 suites.
+// Hit equality, the oracle's hits and the sphere mesh of the BVH4 suites.
 #include "test_bvh4_support.h"
 
 #include <cmath>
 #include <cstdio>
 #include <map>
 
-#include "io/camera_setup.h"
-#include "kernels/frame.h"
-#include "kernels/sampling.h"
-#include "kernels/shading.h"
-#include "kernels/surface.h"
 
 namespace pt::test {
 
-std::vector<Ray> camera_rays(const Scene& scene, int w, int h, float window) {
-  Camera cam = resolve_camera(scene, w, h);
-  std::vector<Ray> rays;
-  float margin = 0.5f * (1.0f - window);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      rays.push_back(camera_ray(cam, margin + window * (x + 0.5f) / w, 1.0f - margin - window * (y + 0.5f) / h));
-  return rays;
-}
-
-std::vector<Ray> uniform_random_rays(const Scene& scene, size_t n, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  float3 lo = scene.bounds.lower - scene.bounds.extent() * 0.05f, ext = scene.bounds.extent() * 1.1f;
-  std::vector<Ray> rays(n);
-  for (Ray& r : rays) {
-    r.org = lo + float3{u01(rng), u01(rng), u01(rng)} * ext;
-    r.dir = to_float3(sample_uniform_sphere(u01(rng), u01(rng)));
-  }
-  return rays;
-}
-
-std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const SceneBvh2& oracle,
-                                     const std::vector<Ray>& rays, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  std::vector<Ray> out;
+std::vector<Hit> closest_hits(const SceneBvh2& oracle, const std::vector<Ray>& rays) {
+  std::vector<Hit> hits(rays.size());
   uint64_t tests = 0;
-  for (const Ray& r : rays) {
-    Hit hit;
-    if (!oracle.intersect(r, hit, tests)) continue;
-    SurfacePoint sp = surface_at(scene, r, hit);
-    float3 dir = to_world(sp.ng, to_float3(sample_cosine_hemisphere(u01(rng), u01(rng))));
-    out.push_back({offset_origin(sp, dir), 0.0f, dir, kInfinity});
-  }
-  return out;
-}
-
-std::vector<Ray> shadow_rays(const Scene& scene, const SceneBvh2& oracle,
-                             const std::vector<Ray>& rays, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  std::vector<Ray> out;
-  uint64_t tests = 0;
-  for (const Ray& r : rays) {
-    Hit hit;
-    if (!oracle.intersect(r, hit, tests)) continue;
-    SurfacePoint sp = surface_at(scene, r, hit);
-    float3 target;
-    if (!scene.area_lights.empty()) {
-      const AreaLight& l = scene.area_lights[rng() % scene.area_lights.size()];
-      target = l.position + l.dim_x * (u01(rng) - 0.5f) + l.dim_y * (u01(rng) - 0.5f);
-    } else {
-      target = scene.bounds.lower + float3{u01(rng), u01(rng), u01(rng)} * scene.bounds.extent();
-    }
-    float3 d = target - sp.p;
-    float dist = length(d);
-    if (!(dist > 0.0f)) continue;
-    float3 dir = d / dist;
-    out.push_back({offset_origin(sp, dir), 0.0f, dir, shadow_ray_tmax(dist)});
-  }
-  return out;
+  for (size_t i = 0; i < rays.size(); ++i) oracle.intersect(rays[i], hits[i], tests);
+  return hits;
 }
 
 float scene_scale(const Scene& s) { return std::max(max_component(abs(s.bounds.lower)), max_component(abs(s.bounds.upper))); }

@@ -1,6 +1,6 @@
-// Helpers of the BVH4 test suites: ray sets for a scene (camera, uniformly
-// random, diffuse bounces and shadow rays from first hits), the hit-equality
-// rule of the suites, and a tessellated closed sphere.
+// Helpers of the BVH4 test suites: the hit-equality rule of the suites, the
+// oracle's hits, and a tessellated closed sphere; the ray sets are the
+// benchmark's.
 #pragma once
 
 #include <random>
@@ -10,29 +10,19 @@
 
 #include "kernels/ray.h"
 #include "kernels/scene.h"
+#include "bench/ray_sets.h"
 #include "bvh/scene_bvh2.h"
 
 namespace pt::test {
 
-/// Camera rays through the pixel centres of a w x h image of the scene's
-/// camera; with window < 1 only of that central fraction of the film.
-std::vector<Ray> camera_rays(const Scene& scene, int w, int h, float window = 1.0f);
+// The ray sets are the benchmark's (bench/ray_sets.h).
+using bench::camera_rays;
+using bench::diffuse_rays;
+using bench::shadow_rays;
+using bench::uniform_random_rays;
 
-/// Origins uniform in the scene bounds (enlarged by 10%), directions uniform
-/// on the sphere, t in [0, inf).
-std::vector<Ray> uniform_random_rays(const Scene& scene, size_t n, uint32_t seed);
-
-/// Rays that leave the first hits of `rays` (closest hits by `oracle`):
-/// cosine-distributed around the geometric normal facing the arriving ray,
-/// from the offset origin the renderers use.
-std::vector<Ray> diffuse_bounce_rays(const Scene& scene, const SceneBvh2& oracle,
-                                     const std::vector<Ray>& rays, uint32_t seed);
-
-/// Rays from the first hits of `rays` towards a uniform point on a random
-/// area light (or, without area lights, a random point in the scene bounds),
-/// with tmax just short of the target: the renderers' shadow rays.
-std::vector<Ray> shadow_rays(const Scene& scene, const SceneBvh2& oracle,
-                             const std::vector<Ray>& rays, uint32_t seed);
+/// Closest hits of `rays` by the oracle (misses: kInvalidId).
+std::vector<Hit> closest_hits(const SceneBvh2& oracle, const std::vector<Ray>& rays);
 
 /// The suites' equality of closest hits (for unit-length directions): both
 /// misses; or the same primitive, with t within 1e-5 of max(t, scale) and u, v

@@ -42,8 +42,9 @@ std::vector<Expected> expected_answers(const Scene& scene) {
   int height = static_cast<int>(std::sqrt(per_set * 0.75));
   std::vector<Ray> camera = camera_rays(scene, height * 4 / 3, height);
   std::vector<Expected> sets;
-  sets.push_back(brute_force("bounce", diffuse_bounce_rays(scene, oracle, camera, 11), oracle));
-  sets.push_back(brute_force("shadow", shadow_rays(scene, oracle, camera, 13), oracle));
+  std::vector<Hit> first = closest_hits(oracle, camera);
+  sets.push_back(brute_force("bounce", diffuse_rays(scene, camera, first, 11), oracle));
+  sets.push_back(brute_force("shadow", shadow_rays(scene, camera, first, 13), oracle));
   sets.push_back(brute_force("random", uniform_random_rays(scene, per_set, 7), oracle));
   sets.push_back(brute_force("camera", std::move(camera), oracle));
   return sets;

@@ -9,7 +9,7 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 
-namespace pt {
+namespace pt::bench {
 namespace {
 
 constexpr int kCellBits = 3;  // per axis: 8 cells
@@ -82,4 +82,4 @@ std::vector<uint32_t> coherent_order(std::span<const Ray> rays, const BBox& boun
   return order;
 }
 
-}  // namespace pt
+}  // namespace pt::bench

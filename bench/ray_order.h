@@ -12,7 +12,7 @@
 #include "kernels/bbox.h"
 #include "kernels/ray.h"
 
-namespace pt {
+namespace pt::bench {
 
 /// 18-bit sort key: origin cell (Morton order) above direction cell.
 uint32_t ray_order_key(const Ray& ray, const BBox& bounds);
@@ -21,4 +21,4 @@ uint32_t ray_order_key(const Ray& ray, const BBox& bounds);
 /// input order). Deterministic; keys are computed in the calling oneTBB arena.
 std::vector<uint32_t> coherent_order(std::span<const Ray> rays, const BBox& bounds);
 
-}  // namespace pt
+}  // namespace pt::bench
