@@ -4,15 +4,15 @@
 #include <cstring>
 #include <fstream>
 
+#include "io/read_file.h"
 #include "io/scene_error.h"
 
 namespace pt::bench {
 namespace {
 
-std::vector<char> read_all(const std::filesystem::path& path, size_t record) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open");
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+/// The file's bytes, a whole number of `record`-byte records.
+std::string read_all(const std::filesystem::path& path, const char* what, size_t record) {
+  std::string bytes = read_regular_file(path, what, uint64_t(1) << 36);
   if (bytes.size() % record != 0)
     throw InputError(path.string() + ": size " + std::to_string(bytes.size()) + " is not a multiple of " +
                      std::to_string(record) + " bytes");
@@ -28,7 +28,7 @@ void write_all(const std::filesystem::path& path, const void* data, size_t bytes
 }  // namespace
 
 Scene read_triangle_file(const std::filesystem::path& path) {
-  std::vector<char> bytes = read_all(path, 9 * sizeof(float));
+  std::string bytes = read_all(path, "triangle file", 9 * sizeof(float));
   Scene s;
   s.name = path.filename().string();
   s.positions.resize(bytes.size() / sizeof(float3));
@@ -48,7 +48,7 @@ void write_triangle_file(const std::filesystem::path& path, const Scene& scene) 
 }
 
 std::vector<Ray> read_ray_file(const std::filesystem::path& path) {
-  std::vector<char> bytes = read_all(path, sizeof(Ray));
+  std::string bytes = read_all(path, "ray file", sizeof(Ray));
   std::vector<Ray> rays(bytes.size() / sizeof(Ray));
   std::memcpy(rays.data(), bytes.data(), bytes.size());
   return rays;

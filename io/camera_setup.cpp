@@ -2,11 +2,11 @@
 #include "camera_setup.h"
 
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <sstream>
 
 #include "atomic_file.h"
+#include "read_file.h"
 #include "scene_error.h"
 #include "strict_number.h"
 
@@ -72,15 +72,7 @@ Camera resolve_camera(const CameraSettingsFile& f, int width, int height) {
 }
 
 CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    bool exists = std::filesystem::exists(path, ec);
-    throw InputError(path.string() + (exists ? ": camera file is not a regular file" : ": camera file does not exist"));
-  }
-  if (std::filesystem::file_size(path, ec) > (1u << 20))
-    throw InputError(path.string() + ": camera file is larger than 1 MiB; not a camera settings file");
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot open camera file");
+  std::istringstream in(read_regular_file(path, "camera file", 1u << 20));
   CameraSettingsFile f;
   auto read = [&](const char* name, float& v) {
     std::string tok;

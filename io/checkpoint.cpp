@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "atomic_file.h"
+#include "read_file.h"
 #include "scene_error.h"
 
 namespace pt {
@@ -63,12 +64,10 @@ std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, c
                                             size_t pixel_count, uint32_t max_samples) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return std::nullopt;
-  if (!std::filesystem::is_regular_file(path, ec))  // a FIFO or device could block or never end
-    throw InputError(path.string() + ": not a usable checkpoint: not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Header, fingerprint and checksum take far less than the slack allowed here.
+  const uint64_t max_bytes = (uint64_t(1) << 20) + uint64_t(pixel_count) * sizeof(PixelAccumulator);
+  std::string data = read_regular_file(path, "checkpoint", max_bytes);
   auto corrupt = [&](const char* what) { return InputError(path.string() + ": not a usable checkpoint: " + what); };
-  if (!in && !in.eof()) throw corrupt("cannot be read");
   if (data.size() < sizeof kMagic + 8 || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0) throw corrupt("bad header");
   uint64_t stored_sum = 0;
   std::memcpy(&stored_sum, data.data() + data.size() - 8, 8);

@@ -17,6 +17,7 @@
 #include "collada_materials.h"
 #include "collada_mesh.h"
 #include "mat4.h"
+#include "read_file.h"
 #include "scene_error.h"
 
 namespace pt {
@@ -205,25 +206,6 @@ class SceneReader {
   bool camera_found_ = false;
 };
 
-std::string read_file_text(const std::filesystem::path& path) {
-  std::error_code ec;
-  auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) throw InputError(path.string() + ": no such file");
-  if (std::filesystem::is_directory(status)) throw InputError(path.string() + ": is a directory, not a scene file");
-  // A FIFO would block the read forever and a device can be endless.
-  if (!std::filesystem::is_regular_file(status)) throw InputError(path.string() + ": is not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot be opened for reading");
-  in.seekg(0, std::ios::end);
-  std::streamoff size = in.tellg();
-  if (size < 0 || static_cast<uint64_t>(size) > kMaxFileBytes)
-    throw InputError(path.string() + ": cannot be read (unreadable or larger than 2 GiB)");
-  in.seekg(0);
-  std::string text(static_cast<size_t>(size), '\0');
-  if (!in.read(text.data(), size)) throw InputError(path.string() + ": read failed");
-  return text;
-}
-
 /// The arrays were grown element by element: keep no slack for the render.
 void shrink_to_fit(Scene& s) {
   s.positions.shrink_to_fit();
@@ -258,7 +240,7 @@ LoadResult load_collada_string(std::string_view xml, const std::string& label, c
 
 LoadResult load_collada_file(const std::filesystem::path& path, const LoadLimits& limits) {
   auto start = std::chrono::steady_clock::now();
-  LoadResult r = load_collada_text(read_file_text(path), path.string(), limits);
+  LoadResult r = load_collada_text(read_regular_file(path, "scene file", kMaxFileBytes), path.string(), limits);
   r.scene.name = path.filename().string();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

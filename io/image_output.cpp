@@ -12,6 +12,7 @@
 #include <stb/stb_image_write.h>
 
 #include "atomic_file.h"
+#include "read_file.h"
 #include "scene_error.h"
 
 namespace pt {
@@ -88,10 +89,9 @@ void write_variance_image(const std::filesystem::path& path, const Film& film) {
 }
 
 std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int& height) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path.string() + ": cannot open PFM");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open PFM");
+  // A PFM of the largest image this program writes, and then some.
+  std::string bytes = read_regular_file(path, "PFM image", uint64_t(1) << 36);
+  std::istringstream in(bytes);
   std::string magic;
   float scale = 0;
   in >> magic >> width >> height >> scale;
@@ -99,12 +99,12 @@ std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int&
     throw InputError(path.string() + ": not a little-endian RGB PFM");
   in.get();
   // The header must not make us allocate more than the file holds.
-  uint64_t data_bytes = std::filesystem::file_size(path, ec) - static_cast<uint64_t>(in.tellg());
-  if (ec || data_bytes < uint64_t(width) * height * 12) throw InputError(path.string() + ": PFM data is truncated");
+  const uint64_t offset = static_cast<uint64_t>(in.tellg());
+  const uint64_t row_bytes = uint64_t(width) * 12;
+  if (bytes.size() - offset < row_bytes * uint64_t(height)) throw InputError(path.string() + ": PFM data is truncated");
   std::vector<float3> rgb(size_t(width) * height);
-  for (int y = height - 1; y >= 0; --y)
-    if (!in.read(reinterpret_cast<char*>(&rgb[size_t(y) * width]), std::streamsize(width) * 12))
-      throw InputError(path.string() + ": PFM data is truncated");
+  for (int y = height - 1, row = 0; y >= 0; --y, ++row)
+    std::memcpy(&rgb[size_t(y) * width], bytes.data() + offset + row * row_bytes, row_bytes);
   return rgb;
 }
 

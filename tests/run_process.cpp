@@ -33,15 +33,27 @@ namespace {
 }
 
 /// Reads both pipes until they close or the deadline passes; false on timeout.
-bool drain(int out_fd, int err_fd, std::string& out, std::string& err, double timeout_seconds) {
-  auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
+/// Sends SIGINT to `pid` once `interrupt_after` seconds have passed (if > 0).
+bool drain(pid_t pid, int out_fd, int err_fd, std::string& out, std::string& err, double timeout_seconds,
+           double interrupt_after) {
+  const auto start = std::chrono::steady_clock::now();
+  auto deadline = start + std::chrono::duration<double>(timeout_seconds);
+  auto interrupt_at = start + std::chrono::duration<double>(interrupt_after);
+  bool interrupt_pending = interrupt_after > 0;
   pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
   std::string* sinks[2] = {&out, &err};
   int open = 2;
   char buf[4096];
   while (open > 0) {
-    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) return false;
+    auto now = std::chrono::steady_clock::now();
+    if (interrupt_pending && now >= interrupt_at) {
+      kill(pid, SIGINT);
+      interrupt_pending = false;
+    }
+    auto until = interrupt_pending ? std::min(deadline, interrupt_at) : deadline;
+    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - now);
+    if (!interrupt_pending && left.count() <= 0) return false;
+    left = std::max(left, std::chrono::milliseconds(1));
     if (poll(fds, 2, static_cast<int>(left.count())) < 0) continue;
     for (int i = 0; i < 2; ++i) {
       if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
@@ -60,7 +72,8 @@ bool drain(int out_fd, int err_fd, std::string& out, std::string& err, double ti
 }  // namespace
 
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
-                          const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes) {
+                          const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes,
+                          double interrupt_after_seconds) {
 #if defined(__SANITIZE_ADDRESS__)
   memory_limit_bytes = 0;
 #endif
@@ -76,7 +89,7 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
     close(err_pipe[0]);
     return r;
   }
-  r.timed_out = !drain(out_pipe[0], err_pipe[0], r.out, r.err, timeout_seconds);
+  r.timed_out = !drain(pid, out_pipe[0], err_pipe[0], r.out, r.err, timeout_seconds, interrupt_after_seconds);
   if (r.timed_out) kill(pid, SIGKILL);
   close(out_pipe[0]);
   close(err_pipe[0]);

@@ -19,10 +19,12 @@ struct ProcessResult {
 
 /// Runs `program` with `args` in `cwd`, killing it after `timeout_seconds`.
 /// When `memory_limit_bytes` > 0 the child's address space is capped (not
-/// under AddressSanitizer, whose shadow memory needs terabytes of it).
+/// under AddressSanitizer, whose shadow memory needs terabytes of it). When
+/// `interrupt_after_seconds` > 0 the child gets SIGINT after that long.
+/// The tests' one way to run a program.
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
                           const std::filesystem::path& cwd, double timeout_seconds,
-                          size_t memory_limit_bytes = 0);
+                          size_t memory_limit_bytes = 0, double interrupt_after_seconds = 0);
 
 /// The lines of `text` (the last one without its '\n'); "" has none.
 std::vector<std::string> lines_of(const std::string& text);

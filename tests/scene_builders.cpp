@@ -27,6 +27,10 @@ void add_quad(Scene& s, float3 a, float3 b, float3 c, float3 d, float3 normal, u
   s.triangle_material.push_back(material);
 }
 
+void add_parallelogram(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material) {
+  add_quad(s, corner, corner + e1, corner + e1 + e2, corner + e2, normalize(cross(e1, e2)), material);
+}
+
 void add_inward_box(Scene& s, const BBox& box, uint32_t material) {
   const float3 l = box.lower, u = box.upper;
   add_quad(s, {l.x, l.y, l.z}, {u.x, l.y, l.z}, {u.x, l.y, u.z}, {l.x, l.y, u.z}, {0, 1, 0}, material);   // floor

@@ -21,6 +21,10 @@ uint32_t add_material(Scene& s, float3 albedo, float3 emission = float3{});
 /// wound so that the geometric normal lies on the side of `normal`.
 void add_quad(Scene& s, float3 a, float3 b, float3 c, float3 d, float3 normal, uint32_t material);
 
+/// Appends the parallelogram corner + s e1 + t e2 (s, t in [0, 1]) with
+/// shading normal e1 x e2 (normalised).
+void add_parallelogram(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material);
+
 /// The six faces of the axis-aligned box [lower, upper] as quads whose shading
 /// normals point into the box (the faces share no vertices).
 void add_inward_box(Scene& s, const BBox& box, uint32_t material);

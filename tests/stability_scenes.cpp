@@ -5,10 +5,6 @@
 
 namespace pt::test {
 
-void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material) {
-  add_quad(s, corner, corner + e1, corner + e1 + e2, corner + e2, normalize(cross(e1, e2)), material);
-}
-
 void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance) {
   s.area_lights.push_back({centre, dim_x, dim_y, direction, radiance, length(cross(dim_x, dim_y))});
   add_area_light_geometry(s, static_cast<uint32_t>(s.area_lights.size() - 1));
@@ -19,7 +15,7 @@ namespace {
 Scene floor_only() {
   Scene s;
   s.name = "floor";
-  add_quad(s, {-10, 0, 10}, {20, 0, 0}, {0, 0, -20}, add_material(s, float3(0.5f)));
+  add_parallelogram(s, {-10, 0, 10}, {20, 0, 0}, {0, 0, -20}, add_material(s, float3(0.5f)));
   s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
   return s;
 }
@@ -44,7 +40,7 @@ Scene floor_under_delta_lights(bool point, bool directional) {
 Scene light_seen_head_on() {
   Scene s;
   s.name = "light_head_on";
-  add_quad(s, {-1, -1, 0}, {2, 0, 0}, {0, 0, -2}, add_material(s, float3(0.5f)));
+  add_parallelogram(s, {-1, -1, 0}, {2, 0, 0}, {0, 0, -2}, add_material(s, float3(0.5f)));
   s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
   add_area_light(s, {0, 0, -2}, {2, 0, 0}, {0, 2, 0}, {0, 0, 1}, float3(3.0f));
   finish_scene(s);

@@ -10,10 +10,6 @@
 
 namespace pt::test {
 
-/// Appends the parallelogram corner, corner + e1, corner + e1 + e2, corner + e2
-/// as two mesh triangles of `material`, with vertex normals along cross(e1, e2).
-void add_quad(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material);
-
 /// Appends an area light (and its two emitting triangles) centred at `centre`
 /// with edges dim_x, dim_y, emitting `radiance` towards `direction` (unit).
 void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance);

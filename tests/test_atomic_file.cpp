@@ -12,20 +12,16 @@
 #include "io/image_output.h"
 #include "io/scene_error.h"
 #include "run_process.h"
+#include "test_support.h"
 
 namespace pt {
 namespace {
-
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 TEST(AtomicFile, WritesExactBytesAndNothingElse) {
   test::ScratchDir dir;
   std::string bytes("binary\0data\n", 12);
   write_file_atomically(dir / "out.bin", bytes);
-  EXPECT_EQ(read_all(dir / "out.bin"), bytes);
+  EXPECT_EQ(test::file_bytes(dir / "out.bin"), bytes);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.bin"});
 }
 
@@ -38,7 +34,7 @@ TEST(AtomicFile, AReaderSeesTheOldOrTheNewFileNeverAMixture) {
   std::atomic<int> reads{0}, torn{0};
   std::thread reader([&] {
     while (!done) {
-      std::string seen = read_all(path);
+      std::string seen = test::file_bytes(path);
       ++reads;
       if (seen != a && seen != b) ++torn;
     }
@@ -78,7 +74,7 @@ TEST(AtomicFile, CheckWritableRefusesWhatTheWriteWouldAndLeavesNothing) {
   EXPECT_THROW(check_writable(dir / "sub"), InputError);
   EXPECT_THROW(check_writable(dir / "sub" / ""), InputError);
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"file", "sub"}));
-  EXPECT_EQ(read_all(dir / "file"), "x");
+  EXPECT_EQ(test::file_bytes(dir / "file"), "x");
 }
 
 TEST(AtomicFile, ImagesAreWrittenThroughIt) {
@@ -92,7 +88,7 @@ TEST(AtomicFile, ImagesAreWrittenThroughIt) {
   std::vector<float3> back = read_pfm(dir / "out.pfm", w, h);
   ASSERT_EQ(back.size(), film.radiance.size());
   for (size_t i = 0; i < back.size(); ++i) EXPECT_EQ(back[i], film.radiance[i]);
-  EXPECT_EQ(read_all(dir / "out.png").substr(1, 3), "PNG");
+  EXPECT_EQ(test::file_bytes(dir / "out.png").substr(1, 3), "PNG");
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 // trace_rays, the external timing tool, on a hand-made triangle and ray file:
 // one JSON line per thread count with the exact hit count and sum of t, and
 // the per-ray hit file (t, primitive; misses t = tmax, 0xFFFFFFFF).
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <string>
@@ -9,16 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include "run_process.h"
+#include "test_support.h"
+
 namespace {
 
-std::string run(const std::string& command) {
-  std::string out;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, pipe)) out += buf;
-  pclose(pipe);
-  return out;
+pt::test::ProcessResult run(const std::vector<std::string>& args) {
+  return pt::test::run_process(PT_TRACE_RAYS, args, std::filesystem::current_path(), 120.0);
 }
 
 template <class T> void write(const std::string& path, const std::vector<T>& data) {
@@ -33,8 +29,9 @@ TEST(TraceRays, ReportsExactHitsAndWritesHitFile) {
   write<float>(dir + "rays.bin", {0.2f, 0.2f, 0, 0, 0, 0, 1, 1e30f,    // hits triangle 0 at t = 1
                                   0.2f, 0.2f, 2, 0, 0, 0, 0.5f, 1e30f,  // hits triangle 1 at t = 2
                                   5.0f, 5.0f, 0, 0, 0, 0, 1, 7.0f});    // misses
-  std::string out = run(std::string(PT_TRACE_RAYS) + " " + dir + "tris.bin " + dir + "rays.bin --threads 2 --hits " +
-                        dir + "hits.bin");
+  pt::test::ProcessResult r = run({dir + "tris.bin", dir + "rays.bin", "--threads", "2", "--hits", dir + "hits.bin"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string& out = r.out;
   ASSERT_NE(out.find("\"threads\":1,"), std::string::npos) << out;
   ASSERT_NE(out.find("\"threads\":2,"), std::string::npos) << out;
   for (const char* field : {"\"hits\":2,", "\"sum_t\":3,", "\"rays\":3,", "\"triangles\":2,", "\"mrays_per_s\":",
@@ -43,8 +40,7 @@ TEST(TraceRays, ReportsExactHitsAndWritesHitFile) {
     EXPECT_NE(first, std::string::npos) << field << " in " << out;
     EXPECT_NE(second, std::string::npos) << field << " twice in " << out;
   }
-  std::ifstream in(dir + "hits.bin", std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = pt::test::file_bytes(dir + "hits.bin");
   ASSERT_EQ(bytes.size(), 3u * 8u);
   float t[3];
   uint32_t prim[3];
@@ -64,9 +60,9 @@ TEST(TraceRays, RejectsTruncatedFiles) {
   std::string dir = ::testing::TempDir();
   write<float>(dir + "bad_tris.bin", {0, 0, 1, 1, 0});  // not a multiple of 9 floats
   write<float>(dir + "rays1.bin", {0, 0, 0, 0, 0, 0, 1, 1});
-  std::string out = run(std::string(PT_TRACE_RAYS) + " " + dir + "bad_tris.bin " + dir + "rays1.bin 2>&1; echo exit=$?");
-  EXPECT_NE(out.find("bad_tris.bin"), std::string::npos) << out;
-  EXPECT_NE(out.find("exit=1"), std::string::npos) << out;
+  pt::test::ProcessResult r = run({dir + "bad_tris.bin", dir + "rays1.bin"});
+  EXPECT_NE(r.err.find("bad_tris.bin"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 1);
 }
 
 }  // namespace

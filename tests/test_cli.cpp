@@ -13,6 +13,7 @@
 #include "io/image_output.h"
 #include "kernels/isa.h"
 #include "run_process.h"
+#include "test_support.h"
 
 namespace pt {
 namespace {
@@ -119,8 +120,7 @@ TEST(Flags, OutputThatIsTheSceneFileIsRefused) {
 std::string valid_camera_file(const test::ScratchDir& dir) {
   test::ProcessResult r = run(dir, {"-q", "-r", "4", "3", "-f", "cam.png", "--write-camera", "cam.txt"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(dir / "cam.txt");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = test::file_bytes(dir / "cam.txt");
   for (const char* f : {"cam.png", "cam_rate.png", "cam.txt"}) std::filesystem::remove(dir / f);
   return text;
 }
@@ -148,9 +148,9 @@ TEST(CameraFile, ThatDoesNotParseIsOneLineNamingTheFileAndField) {
   std::filesystem::create_directory(dir / "camdir");
   std::vector<std::string> before = dir.entries();
   expect_refused(dir, before, run(dir, {"-q", "-f", "out.png", "-c", "camdir"}), 1,
-                 "error: camdir: camera file is not a regular file");
+                 "error: camdir: is a directory, not a camera file");
   expect_refused(dir, before, run(dir, {"-q", "-f", "out.png", "-c", "missing.txt"}), 1,
-                 "error: missing.txt: camera file does not exist");
+                 "error: missing.txt: no such file");
 }
 
 TEST(CameraFile, WrittenByARenderIsAccepted) {

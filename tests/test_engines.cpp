@@ -16,6 +16,7 @@
 #include "bvh/scene_bvh4.h"
 #include "io/camera_setup.h"
 #include "kernels/isa.h"
+#include "statistics.h"
 #include "test_support.h"
 #include "reference/reference_renderer.h"
 #include "wavefront/engines.h"
@@ -154,45 +155,8 @@ TEST(EngineAgreement, EveryLevelThisCpuRunsRendersTheSameImage) {
   set_active_isa(in_use);
 }
 
-/// Two renders with different seeds agree within noise: per pixel,
-/// z = (Y1 - Y2) / sqrt(var1 + var2) on illuminance, with var the variance of
-/// each pixel's mean. Under agreement, |z| > 3.29 has probability 0.001 (for
-/// near-normal means); the test passes when the number of such pixels stays
-/// below the binomial bound N * 0.001 + 5 sqrt(N * 0.001) (false alarm < 1e-6
-/// for independent pixels), and when no pixel exceeds |z| = 6.5 (Bonferroni at
-/// 1e-10 / N for the normal approximation; catches a single badly wrong pixel).
-/// A global bias too small to show in single pixels is caught by Stouffer's
-/// combined score Z = sum(z_i) / sqrt(N) over signed per-pixel scores, which
-/// is standard normal under agreement: |Z| must stay below 5 (p = 6e-7).
-void expect_statistically_equal(const Film& a, const Film& b, const std::string& what) {
-  size_t n = a.radiance.size(), over = 0, degenerate_mismatch = 0;
-  double worst_z = 0.0, sum_z = 0.0;
-  size_t scored = 0;
-  size_t worst = 0;
-  for (size_t i = 0; i < n; ++i) {
-    double ya = illuminance(a.radiance[i]), yb = illuminance(b.radiance[i]);
-    double var = double(a.variance[i]) + b.variance[i];
-    if (var <= 0.0) {
-      degenerate_mismatch += std::fabs(ya - yb) > 1e-6 * std::max(1.0, std::fabs(ya));
-      continue;
-    }
-    double signed_z = (ya - yb) / std::sqrt(var);
-    sum_z += signed_z;
-    ++scored;
-    double z = std::fabs(signed_z);
-    over += z > 3.29;
-    if (z > worst_z) { worst_z = z; worst = i; }
-  }
-  double bound = n * 0.001 + 5.0 * std::sqrt(n * 0.001);
-  EXPECT_LE(double(over), bound) << what << ": " << over << " of " << n << " pixels beyond |z| = 3.29";
-  EXPECT_LT(worst_z, 6.5) << what << ": pixel (" << worst % a.width << "," << worst / a.width << ") z = " << worst_z;
-  EXPECT_EQ(degenerate_mismatch, 0u) << what << ": noiseless pixels differ";
-  double z_image = scored ? std::fabs(sum_z) / std::sqrt(double(scored)) : 0.0;
-  EXPECT_LT(z_image, 5.0) << what << ": image means differ, Stouffer Z = " << z_image;
-  std::printf("  %s: %zu/%zu pixels beyond |z| = 3.29 (bound %.1f), max |z| %.2f, Stouffer Z %.2f\n", what.c_str(), over,
-              n, bound, worst_z, z_image);
-}
-
+// Two renders with different seeds agree within noise
+// (test::expect_same_image_within_noise, statistics.h).
 TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
   std::vector<std::string> scenes = {test::project_scene("cornell_spheres.dae").string()};
   if (test::shared_scenes_available())
@@ -210,7 +174,7 @@ TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
     rs.seed = 2;
     for (size_t e = 1; e < test::engines_under_test().size(); ++e) {
       const test::EngineUnderTest& engine = test::engines_under_test()[e];
-      expect_statistically_equal(ref, engine.render(scene, cam, rs).film, engine.name + " on " + path);
+      test::expect_same_image_within_noise(ref, engine.render(scene, cam, rs).film, engine.name + " on " + path);
     }
   }
 }
@@ -226,9 +190,9 @@ TEST(EngineAgreement, TheNoiseTestDetectsATwoPercentBias) {
   Film a = test::engines_under_test()[0].render(scene, cam, rs).film;
   rs.seed = 2;
   Film b = test::engines_under_test()[0].render(scene, cam, rs).film;
-  expect_statistically_equal(a, b, "unbiased");
+  test::expect_same_image_within_noise(a, b, "unbiased");
   for (float3& c : b.radiance) c *= 1.02f;
-  EXPECT_NONFATAL_FAILURE(expect_statistically_equal(a, b, "biased"), "image means differ");
+  EXPECT_NONFATAL_FAILURE(test::expect_same_image_within_noise(a, b, "biased"), "image means differ");
 }
 
 void expect_identical(const Film& a, const Film& b, const std::string& what) {

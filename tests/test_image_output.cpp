@@ -17,6 +17,7 @@
 #include "io/image_output.h"
 #include "io/scene_error.h"
 #include "png_decode.h"
+#include "test_support.h"
 
 namespace pt {
 namespace {
@@ -101,10 +102,7 @@ TEST(PfmOutput, RoundTripsBitForBitWithTheBottomRowFirstInTheFile) {
   ASSERT_EQ(back.size(), film.radiance.size());
   EXPECT_EQ(std::memcmp(back.data(), film.radiance.data(), back.size() * sizeof(float3)), 0);
 
-  std::ifstream in(dir / "out.PFM", std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  const std::string file = bytes.str(), header = "PF\n4 3\n-1.0\n";
+  const std::string file = test::file_bytes(dir / "out.PFM"), header = "PF\n4 3\n-1.0\n";
   ASSERT_EQ(file.size(), header.size() + 4 * 3 * 12);
   EXPECT_EQ(file.substr(0, header.size()), header);
   float first[3];

@@ -3,9 +3,6 @@
 // uninterrupted render bit for bit; a checkpoint file round-trips and refuses
 // a different render; the CLI writes a partial image on SIGINT and resumes.
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -16,6 +13,7 @@
 #include "io/camera_setup.h"
 #include "io/checkpoint.h"
 #include "io/scene_error.h"
+#include "run_process.h"
 #include "test_support.h"
 #include "bvh/scene_bvh2.h"
 #include "wavefront/engines.h"
@@ -128,25 +126,9 @@ TEST(Checkpoint, RoundTripsAndRefusesADifferentRender) {
 
 /// Runs the pathtracer with `args`; sends SIGINT after `interrupt_after` seconds if > 0.
 int run_pathtracer(const std::vector<std::string>& args, double interrupt_after) {
-  std::vector<std::string> all = {PT_PATHTRACER_BINARY};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  if (interrupt_after > 0) {
-    std::this_thread::sleep_for(std::chrono::duration<double>(interrupt_after));
-    kill(pid, SIGINT);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  test::ProcessResult r = test::run_process(PT_PATHTRACER_BINARY, args, std::filesystem::current_path(), 600.0, 0,
+                                            interrupt_after);
+  return r.timed_out ? -1 : r.exit_code;
 }
 
 TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
@@ -171,8 +153,8 @@ TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
   ASSERT_TRUE(std::filesystem::exists(ck));
 
   ASSERT_EQ(run_pathtracer(with({"-f", out, "--checkpoint", ck}), 0), 0);
-  EXPECT_EQ(file_bytes(out), file_bytes(dir / "full.png"));
-  EXPECT_EQ(file_bytes(dir / "img_rate.png"), file_bytes(dir / "full_rate.png"));
+  EXPECT_EQ(test::file_bytes(out), test::file_bytes(dir / "full.png"));
+  EXPECT_EQ(test::file_bytes(dir / "img_rate.png"), test::file_bytes(dir / "full_rate.png"));
   EXPECT_FALSE(std::filesystem::exists(ck));  // removed once complete
   std::filesystem::remove_all(dir);
 }

@@ -17,7 +17,7 @@
 #include "io/camera_setup.h"
 #include "run_process.h"
 #include "stability_scenes.h"
-#include "stability_statistics.h"
+#include "statistics.h"
 #include "test_support.h"
 
 namespace pt {

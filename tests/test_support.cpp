@@ -1,6 +1,8 @@
 // Test helper implementations.
 #include "test_support.h"
 
+#include "io/read_file.h"
+
 namespace pt::test {
 
 std::filesystem::path shared_scene(const std::string& name) { return std::filesystem::path(PT_SHARED_SCENES) / name; }
@@ -9,6 +11,10 @@ bool shared_scenes_available() { return std::filesystem::is_directory(PT_SHARED_
 
 std::filesystem::path project_scene(const std::string& name) {
   return std::filesystem::path(PT_PROJECT_SCENES) / name;
+}
+
+std::string file_bytes(const std::filesystem::path& path) {
+  return read_regular_file(path, "test file", uint64_t(1) << 32);
 }
 
 LoadResult load_string(const std::string& xml, const std::string& label) { return load_collada_string(xml, label); }

@@ -20,6 +20,10 @@ std::filesystem::path project_scene(const std::string& name);
 /// Loads a scene from a COLLADA string (for small hand-written test files).
 LoadResult load_string(const std::string& xml, const std::string& label = "test.dae");
 
+/// The bytes of a file the test wrote or expects (the tests' one reader:
+/// read_regular_file, io/read_file.h); throws InputError when it cannot.
+std::string file_bytes(const std::filesystem::path& path);
+
 /// The names of all public CS184 scenes, in a fixed order.
 const std::vector<std::string>& shared_scene_names();
 

@@ -6,10 +6,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
+
+#include "io/read_file.h"
+#include "io/scene_error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
@@ -41,12 +42,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   for (const std::filesystem::path& f : files) {
-    std::ifstream in(f, std::ios::binary);
-    if (!in) {
-      std::fprintf(stderr, "replay_fuzz_inputs: cannot read %s\n", f.c_str());
+    std::string bytes;
+    try {
+      bytes = pt::read_regular_file(f, "fuzz input", uint64_t(1) << 30);
+    } catch (const pt::InputError& e) {
+      std::fprintf(stderr, "replay_fuzz_inputs: %s\n", e.what());
       return 1;
     }
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::fprintf(stderr, "%s (%zu bytes)\n", f.c_str(), bytes.size());
     LLVMFuzzerTestOneInput(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
   }
