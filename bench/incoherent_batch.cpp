@@ -42,6 +42,23 @@ RayBuffer gather_in_order(std::span<const Ray> rays, const std::vector<uint32_t>
   return sorted;
 }
 
+/// Traces rays[k] into out[k] with `each(rays, out)` (a SceneBvh4 range query),
+/// in the order of coherent_order when `reorder`.
+template <class Out, class Each>
+void trace_batch(std::span<const Ray> rays, std::span<Out> out, bool reorder, const BBox& bounds, Each&& each) {
+  if (!reorder) {
+    for_each_chunk(rays.size(), [&](size_t b, size_t e) { each(rays.subspan(b, e - b), out.subspan(b, e - b)); });
+    return;
+  }
+  std::vector<uint32_t> order = coherent_order(rays, bounds);
+  RayBuffer sorted = gather_in_order(rays, order);
+  for_each_chunk(rays.size(), [&](size_t b, size_t e) {
+    Out found[kChunk];
+    each(std::span<const Ray>(&sorted[b], e - b), std::span<Out>(found, e - b));
+    for (size_t k = b; k < e; ++k) out[order[k]] = found[k - b];
+  });
+}
+
 }  // namespace
 
 IncoherentBatches::IncoherentBatches(const SceneBvh4& bvh, const Scene& scene, size_t reorder_min_bytes)
@@ -52,31 +69,13 @@ IncoherentBatches::IncoherentBatches(const SceneBvh4& bvh, const Scene& scene, s
 }
 
 void IncoherentBatches::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
-  if (!reorder_) {
-    for_each_chunk(rays.size(), [&](size_t b, size_t e) { bvh_.intersect_each(rays.subspan(b, e - b), hits.subspan(b, e - b)); });
-    return;
-  }
-  std::vector<uint32_t> order = coherent_order(rays, bounds_);
-  RayBuffer sorted = gather_in_order(rays, order);
-  for_each_chunk(rays.size(), [&](size_t b, size_t e) {
-    Hit found[kChunk];
-    bvh_.intersect_each(std::span<const Ray>(&sorted[b], e - b), std::span<Hit>(found, e - b));
-    for (size_t k = b; k < e; ++k) hits[order[k]] = found[k - b];
-  });
+  trace_batch(rays, hits, reorder_, bounds_,
+              [this](std::span<const Ray> r, std::span<Hit> h) { bvh_.intersect_each(r, h); });
 }
 
 void IncoherentBatches::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
-  if (!reorder_) {
-    for_each_chunk(rays.size(), [&](size_t b, size_t e) { bvh_.occluded_each(rays.subspan(b, e - b), blocked.subspan(b, e - b)); });
-    return;
-  }
-  std::vector<uint32_t> order = coherent_order(rays, bounds_);
-  RayBuffer sorted = gather_in_order(rays, order);
-  for_each_chunk(rays.size(), [&](size_t b, size_t e) {
-    uint8_t found[kChunk];
-    bvh_.occluded_each(std::span<const Ray>(&sorted[b], e - b), std::span<uint8_t>(found, e - b));
-    for (size_t k = b; k < e; ++k) blocked[order[k]] = found[k - b];
-  });
+  trace_batch(rays, blocked, reorder_, bounds_,
+              [this](std::span<const Ray> r, std::span<uint8_t> b) { bvh_.occluded_each(r, b); });
 }
 
 }  // namespace pt::bench

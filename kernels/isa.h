@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -47,5 +48,16 @@ Isa active_isa();
 void set_active_isa(Isa isa);
 /// "auto" or a level name -> the level it selects here; throws IsaError.
 Isa resolve_isa(std::string_view name);
+
+/// The table of `isa` among `tables`, one per compiled level in
+/// compiled_isas() order (PT_ISA_TABLE_ADDRESSES, kernels/isa_list.h).
+/// Throws IsaError, naming `what`, for a level this binary lacks.
+template <class Table>
+const Table& isa_table(Isa isa, std::initializer_list<const Table*> tables, std::string_view what) {
+  std::span<const Isa> levels = compiled_isas();
+  for (size_t i = 0; i < levels.size() && i < tables.size(); ++i)
+    if (levels[i] == isa) return *tables.begin()[i];
+  throw IsaError("this binary has no " + std::string(what) + " for " + std::string(isa_name(isa)));
+}
 
 }  // namespace pt

@@ -43,44 +43,47 @@ std::vector<size_t> survivors(const std::vector<uint32_t>& masks, size_t lanes) 
   return kept;
 }
 
-TEST(StreamCompaction, EveryFieldOfARayReachesTheNextQueue) {
-  const test::LaneProbes& probes = test::lane_probes(active_isa());
-  std::mt19937 rng(3);
-  for (size_t n : {size_t(1), probes.lanes, 3 * probes.lanes + 1, size_t(1000)}) {
-    wf::RayQueue in, out;
+/// Fills a queue of n items with distinct values, compacts it with `compact`
+/// under random masks and checks every field of every survivor (`check`).
+template <class Queue, class Fill, class Compact, class Check>
+void expect_compaction_keeps_every_field(uint32_t seed, Fill&& fill, Compact&& compact, Check&& check) {
+  const size_t lanes = test::lane_probes(active_isa()).lanes;
+  std::mt19937 rng(seed);
+  for (size_t n : {size_t(1), lanes, 3 * lanes + 1, size_t(1000)}) {
+    Queue in, out;
     in.reserve(n);
     in.size = n;
-    {
-      wf::RayQueue& q = in;
-      uint32_t field = 0;
-      PT_RAY_FIELDS(PT_FILL_FIELD)
-    }
-    std::vector<uint32_t> masks = random_masks<wf::RayQueue>(n, probes.lanes, rng);
-    probes.compact_rays(in, masks.data(), out);
-    std::vector<size_t> kept = survivors(masks, probes.lanes);
+    fill(in, n);
+    std::vector<uint32_t> masks = random_masks<Queue>(n, lanes, rng);
+    compact(in, masks.data(), out);
+    std::vector<size_t> kept = survivors(masks, lanes);
     ASSERT_EQ(out.size, kept.size());
-    PT_RAY_FIELDS(PT_CHECK_FIELD)
+    check(in, out, kept);
   }
 }
 
+TEST(StreamCompaction, EveryFieldOfARayReachesTheNextQueue) {
+  expect_compaction_keeps_every_field<wf::RayQueue>(
+      3,
+      [](wf::RayQueue& q, size_t n) {
+        uint32_t field = 0;
+        PT_RAY_FIELDS(PT_FILL_FIELD)
+      },
+      test::lane_probes(active_isa()).compact_rays,
+      [](const wf::RayQueue& in, const wf::RayQueue& out, const std::vector<size_t>& kept) { PT_RAY_FIELDS(PT_CHECK_FIELD) });
+}
+
 TEST(StreamCompaction, EveryFieldOfAShadowRayReachesTheNextQueue) {
-  const test::LaneProbes& probes = test::lane_probes(active_isa());
-  std::mt19937 rng(4);
-  for (size_t n : {size_t(1), probes.lanes, 3 * probes.lanes + 1, size_t(1000)}) {
-    wf::ShadowQueue in, out;
-    in.reserve(n);
-    in.size = n;
-    {
-      wf::ShadowQueue& q = in;
-      uint32_t field = 0;
-      PT_SHADOW_FIELDS(PT_FILL_FIELD)
-    }
-    std::vector<uint32_t> masks = random_masks<wf::ShadowQueue>(n, probes.lanes, rng);
-    probes.compact_shadows(in, masks.data(), out);
-    std::vector<size_t> kept = survivors(masks, probes.lanes);
-    ASSERT_EQ(out.size, kept.size());
-    PT_SHADOW_FIELDS(PT_CHECK_FIELD)
-  }
+  expect_compaction_keeps_every_field<wf::ShadowQueue>(
+      4,
+      [](wf::ShadowQueue& q, size_t n) {
+        uint32_t field = 0;
+        PT_SHADOW_FIELDS(PT_FILL_FIELD)
+      },
+      test::lane_probes(active_isa()).compact_shadows,
+      [](const wf::ShadowQueue& in, const wf::ShadowQueue& out, const std::vector<size_t>& kept) {
+        PT_SHADOW_FIELDS(PT_CHECK_FIELD)
+      });
 }
 
 }  // namespace

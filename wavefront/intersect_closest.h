@@ -1,5 +1,6 @@
-// Stage 2: closest hits of a ray queue, one ray at a time through the 4-wide
-// BVH (single-ray traversal, the per-ray setup hoisted inside the tracer).
+// Stage 2: closest hits of a ray queue: coherent queues (camera rays) as SIMD
+// packets of K rays, incoherent ones (bounce rays) ray by ray with the 4-wide
+// node test, through the tracer's inline queries (bvh/tracers.h).
 #pragma once
 
 #include <algorithm>
