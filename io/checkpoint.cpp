@@ -44,7 +44,7 @@ std::string render_fingerprint(const std::string& engine, const Scene& scene, co
     << " l=" << rs.light_samples << " m=" << rs.max_depth << " a=" << rs.adaptive_batch << "," << rs.adaptive_tolerance
     << " rr=" << rs.rr_continue << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)
     << " shading=" << int(rs.shading) << " seed=" << rs.seed << " quirks=" << rs.cs184_light_quirk
-    << rs.cs184_invisible_sky;
+    << rs.cs184_invisible_sky << rs.cs184_light_pdf;
   if (rs.region) o << " region=" << rs.region->x << "," << rs.region->y << "," << rs.region->width << "," << rs.region->height;
   return o.str();
 }

@@ -29,11 +29,11 @@ std::filesystem::path rate_image_path(const std::filesystem::path& output) {
   return p;
 }
 
-uint8_t encode_channel(float linear) {
+uint8_t encode_channel(float linear, PngQuantization q) {
   float v = std::pow(std::max(linear, 0.0f) * std::sqrt(2.0f), 1.0f / 2.2f);
   if (!(v >= 0.0f)) v = 0.0f;  // NaN
   v = std::min(v, 1.0f);
-  return static_cast<uint8_t>(std::lround(v * 255.0f));
+  return static_cast<uint8_t>(q == PngQuantization::kTruncate ? v * 255.0f : std::round(v * 255.0f));
 }
 
 std::string encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb) {
@@ -60,14 +60,14 @@ std::string encode_pfm(int width, int height, const std::vector<float3>& rgb) {
   return out;
 }
 
-void write_image(const std::filesystem::path& path, const Film& film) {
+void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q) {
   if (image_format_for(path) == ImageFormat::kPfm) {
     write_file_atomically(path, encode_pfm(film.width, film.height, film.radiance));
     return;
   }
   std::vector<uint8_t> rgb(film.radiance.size() * 3);
   for (size_t i = 0; i < film.radiance.size(); ++i)
-    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = encode_channel(film.radiance[i][c]);
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = encode_channel(film.radiance[i][c], q);
   write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
 }
 

@@ -21,10 +21,16 @@ ImageFormat image_format_for(const std::filesystem::path& path);
 /// out.png -> out_rate.png (the sample-rate image beside an output).
 std::filesystem::path rate_image_path(const std::filesystem::path& output);
 
-/// 8-bit sRGB-ish value of one linear channel, as the course renderer encodes it.
-uint8_t encode_channel(float linear);
+/// How an encoded value in [0, 1] becomes 8 bits: to the nearest code (the
+/// default, unbiased), or truncated as the course renderer does (which makes
+/// its PNGs about 0.8% darker in linear terms at mid grey).
+enum class PngQuantization { kNearest, kTruncate };
 
-void write_image(const std::filesystem::path& path, const Film& film);
+/// 8-bit value of one linear channel in the course renderer's encoding.
+uint8_t encode_channel(float linear, PngQuantization q = PngQuantization::kNearest);
+
+void write_image(const std::filesystem::path& path, const Film& film,
+                 PngQuantization q = PngQuantization::kNearest);
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
 /// Each pixel's variance of its mean illuminance as a grey PFM (for references).
 void write_variance_image(const std::filesystem::path& path, const Film& film);

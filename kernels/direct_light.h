@@ -75,7 +75,7 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
   for (const AreaLight& light : scene.area_lights)
     for (int j = 0; j < n; ++j, ++k) {
       ps.get2d(vertex, dims::light_dim(k), u1, u2);
-      AreaLightSampleT<T> ls = sample_area_light<T>(light, sp.p.x, sp.p.y, sp.p.z, u1, u2);
+      AreaLightSampleT<T> ls = sample_area_light<T>(light, sp.p.x, sp.p.y, sp.p.z, u1, u2, rs.cs184_light_pdf);
       emit(ls.facing, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance,
            light_sample_factor(dot3(sp.ns, ls.wi), ls.pdf, mis_count) * inv_n);
     }

@@ -54,8 +54,12 @@ struct AreaLightSampleT {
   lane::mask_t<T> facing;
 };
 
+/// `course_pdf`: the course renderer's pdf, dist / (area |cos|) (it takes the
+/// cosine from the unnormalised vector to the sample), so that each sample
+/// weighs dist times more than the physical dist^2 / (area |cos|) gives.
 template <class T>
-inline AreaLightSampleT<T> sample_area_light(const AreaLight& l, T px, T py, T pz, T u1, T u2) {
+inline AreaLightSampleT<T> sample_area_light(const AreaLight& l, T px, T py, T pz, T u1, T u2,
+                                             bool course_pdf = false) {
   T a = u1 - T(0.5f), b = u2 - T(0.5f);
   T dx = T(l.position.x) + T(l.dim_x.x) * a + T(l.dim_y.x) * b - px;
   T dy = T(l.position.y) + T(l.dim_x.y) * a + T(l.dim_y.y) * b - py;
@@ -68,6 +72,7 @@ inline AreaLightSampleT<T> sample_area_light(const AreaLight& l, T px, T py, T p
   s.dist = dist;
   T cos_light = s.wi.x * T(l.direction.x) + s.wi.y * T(l.direction.y) + s.wi.z * T(l.direction.z);
   s.pdf = dist2 / (T(l.area) * lane::abs(cos_light));
+  if (course_pdf) s.pdf = s.pdf / dist;
   s.facing = (cos_light < T(0.0f)) && (dist > T(0.0f)) && (s.pdf < T(kInfinity));
   return s;
 }
@@ -84,9 +89,11 @@ inline LightSample sample_area_light(const AreaLight& l, const float3& p, float 
 
 /// Solid-angle pdf with which sample_area_light picks the point at distance
 /// `dist` along unit direction wi (for multiple importance sampling).
-inline float area_light_pdf(const AreaLight& l, const float3& wi, float dist) {
+inline float area_light_pdf(const AreaLight& l, const float3& wi, float dist, bool course_pdf = false) {
   float cos_light = std::fabs(dot(wi, l.direction));
-  return cos_light > 0.0f ? dist * dist / (l.area * cos_light) : 0.0f;
+  if (!(cos_light > 0.0f)) return 0.0f;
+  float pdf = dist * dist / (l.area * cos_light);
+  return course_pdf ? pdf / dist : pdf;
 }
 
 inline LightSample sample_point_light(const PointLight& l, const float3& p) {

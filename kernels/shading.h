@@ -82,7 +82,8 @@ inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, 
   if (m.area_light < 0) return {};
   float3 L = emitted_radiance(s, sp, ray, rs);
   if (is_black(L)) return L;
-  return L * power_heuristic(bsdf_pdf, n * area_light_pdf(s.area_lights[m.area_light], ray.dir, hit->t));
+  return L * power_heuristic(bsdf_pdf, n * area_light_pdf(s.area_lights[m.area_light], ray.dir, hit->t,
+                                                          rs.cs184_light_pdf));
 }
 
 /// The assignment's normal shading: n * 0.5 + 0.5 of the stored shading normal.

@@ -53,7 +53,7 @@ if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   # Left out under the sanitizers (they run in Release above): the tests that
   # take over 5 s there, measured at 3-30x their Release time (statistical
   # renders, furnaces, the large BVH scenes, a SIGINT timed against a render).
-  slow='^(WhiteFurnace|EstimatorAgreement|EmitterFormFactor|EngineAgreement|Determinism|Resume|CommandLine)\.'
+  slow='^(WhiteFurnace|EstimatorAgreement|EmitterFormFactor|EngineAgreement|Determinism|Resume|CommandLine|CourseImages)\.'
   slow+='|^Public/BvhSceneTest\.ClosestHitsAndOcclusionEqualBruteForce/(bunny|CBbunny|CBcoil|cow|beetle)( |$)'
   slow+='|^(ThreadDeterminism\.CornellSceneWithAdaptiveSampling|RandomNumbers\.NoTwoPathsShareAllTheirNumbers'
   slow+='|SkyFurnace\.PlaneUnderUniformSkyHasRadianceRhoTimesLs|AdaptiveSampling\.StopsOnBatchBoundaries.*'

@@ -237,7 +237,8 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("NAME");
   app.add_flag("--normals", raw.normals, "Normal shading instead of path tracing");
   app.add_flag("--cs184-compat", raw.cs184,
-               "Reproduce the course renderer's quirks: area-light glow, invisible sky, 800x600 framing");
+               "Reproduce the course renderer's quirks: area-light glow and pdf, invisible sky, 800x600 framing, "
+               "truncated PNG values");
   app.add_flag("--cs184-framing", o.cs184_framing, "Crop of the 800x600 view, as the course renderer frames -r");
   path("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
   path("--checkpoint", o.checkpoint_file,
@@ -308,7 +309,9 @@ ParseResult parse_command_line(int argc, char** argv) {
   if (raw.cs184) {
     s.cs184_light_quirk = true;
     s.cs184_invisible_sky = true;
+    s.cs184_light_pdf = true;
     o.cs184_framing = true;
+    o.cs184_png = true;
   }
   return {o, 0};
 }

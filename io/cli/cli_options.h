@@ -31,6 +31,7 @@ struct Options {
   AccelChoice accel = AccelChoice::kBvh4;
   uint32_t max_leaf_size = 4;
   bool cs184_framing = false;
+  bool cs184_png = false;            ///< --cs184-compat: PNG values truncated as the course renderer does
   bool quiet = false;
   bool stats = false;
   bool memory = false;               ///< --memory: print bytes per structure and peak RSS

@@ -159,14 +159,15 @@ int run(const cli::Options& o) {
   RenderOutput out = engine.render(rs, control, &queue_bytes);
   bar.finish();
 
+  const PngQuantization png = o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest;
   if (out.cancelled) {
     std::filesystem::path partial = partial_path(output);
-    write_image(partial, out.film);
+    write_image(partial, out.film, png);
     std::fprintf(stderr, "interrupted: wrote the image so far to %s%s\n", partial.c_str(),
                  checkpoint.path.empty() ? "" : (" and the state to " + checkpoint.path.string()).c_str());
     return 128 + (g_signal ? g_signal : SIGINT);
   }
-  write_image(output, out.film);
+  write_image(output, out.film, png);
   if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), out.film);
   if (!o.variance_file.empty()) write_variance_image(o.variance_file, out.film);
   if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);
