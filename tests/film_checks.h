@@ -17,7 +17,9 @@ MeanError film_channel_mean(const Film& film, int channel);
 /// Every pixel is an independent, unbiased estimate of `expected`: per channel,
 /// |mean - expected| < kZ5 standard errors (false failure 5.7e-7 per channel)
 /// and the standard error is below `max_relative_error` of expected (so the
-/// test has power). An expected channel of exactly 0 must be 0 in every pixel.
+/// test has power). An expected channel of exactly 0 must be 0 in every pixel;
+/// an estimator without noise (cosine sampling of a uniform sky) must be exact
+/// to 1e-6.
 void expect_film_estimates(const Film& film, const float3& expected, const std::string& what,
                            double max_relative_error = 0.01);
 

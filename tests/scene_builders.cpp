@@ -31,6 +31,11 @@ void add_parallelogram(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t m
   add_quad(s, corner, corner + e1, corner + e1 + e2, corner + e2, normalize(cross(e1, e2)), material);
 }
 
+void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance) {
+  s.area_lights.push_back({centre, dim_x, dim_y, direction, radiance, length(cross(dim_x, dim_y))});
+  add_area_light_geometry(s, static_cast<uint32_t>(s.area_lights.size() - 1));
+}
+
 void add_inward_box(Scene& s, const BBox& box, uint32_t material) {
   const float3 l = box.lower, u = box.upper;
   add_quad(s, {l.x, l.y, l.z}, {u.x, l.y, l.z}, {u.x, l.y, u.z}, {l.x, l.y, u.z}, {0, 1, 0}, material);   // floor

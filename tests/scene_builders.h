@@ -25,6 +25,10 @@ void add_quad(Scene& s, float3 a, float3 b, float3 c, float3 d, float3 normal, u
 /// shading normal e1 x e2 (normalised).
 void add_parallelogram(Scene& s, float3 corner, float3 e1, float3 e2, uint32_t material);
 
+/// Appends an area light (and its two emitting triangles) centred at `centre`
+/// with edges dim_x, dim_y, emitting `radiance` towards `direction` (unit).
+void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance);
+
 /// The six faces of the axis-aligned box [lower, upper] as quads whose shading
 /// normals point into the box (the faces share no vertices).
 void add_inward_box(Scene& s, const BBox& box, uint32_t material);

@@ -5,11 +5,6 @@
 
 namespace pt::test {
 
-void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance) {
-  s.area_lights.push_back({centre, dim_x, dim_y, direction, radiance, length(cross(dim_x, dim_y))});
-  add_area_light_geometry(s, static_cast<uint32_t>(s.area_lights.size() - 1));
-}
-
 namespace {
 
 Scene floor_only() {

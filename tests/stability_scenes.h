@@ -6,13 +6,9 @@
 
 #include "kernels/camera.h"
 #include "kernels/scene.h"
-#include "scene_builders.h"  // add_material, finish_scene
+#include "scene_builders.h"  // add_material, add_area_light, finish_scene
 
 namespace pt::test {
-
-/// Appends an area light (and its two emitting triangles) centred at `centre`
-/// with edges dim_x, dim_y, emitting `radiance` towards `direction` (unit).
-void add_area_light(Scene& s, float3 centre, float3 dim_x, float3 dim_y, float3 direction, float3 radiance);
 
 /// A 20 x 20 floor (y = 0, albedo 0.5) under a square area light of side
 /// `side` at height 1 facing down, radiance power / side^2: the irradiance
