@@ -1,6 +1,8 @@
 // Render benchmark: whole renders of shared scenes by the three engines side
 // by side in one run (wavefront, megakernel, scalar reference), all tracing
-// through the same BVH4. Reports wall time, samples per second and rays per
+// through the same BVH4; the wavefront also without packets and without its
+// queues by material kind (every shading kernel over every ray). CBgems and
+// CBspheres_microfacet_al_ag mix materials; the others are one kind. Reports wall time, samples per second and rays per
 // second (camera + bounce + shadow). The acceleration structure is built
 // before timing. Google Benchmark JSON via --benchmark_out.
 //
@@ -67,6 +69,11 @@ RenderOutput render(const std::string& engine, const LoadedScene& s, const Rende
     o.packets = false;
     return wf::render_wavefront(s.scene, s.camera, rs, tracing, o);
   }
+  if (engine == "wavefront_unsorted") {  // every shading kernel over every ray: what material queues buy
+    wf::WavefrontOptions o;
+    o.sort_by_material = false;
+    return wf::render_wavefront(s.scene, s.camera, rs, tracing, o);
+  }
   if (engine == "megakernel") return wf::render_megakernel(s.scene, s.camera, rs, tracing);
   return reference::render_reference(s.scene, *s.reference_accel, s.camera, rs);
 }
@@ -96,8 +103,9 @@ void bench_render(benchmark::State& state, const std::string& scene_name, const 
 }
 
 void register_benchmarks() {
-  for (const char* scene_name : {"CBbunny.dae", "CBspheres_lambertian.dae", "CBcoil.dae"})
-    for (const char* engine : {"wavefront", "wavefront_no_packets", "megakernel", "reference"}) {
+  for (const char* scene_name : {"CBbunny.dae", "CBspheres_lambertian.dae", "CBcoil.dae", "CBgems.dae",
+                                 "CBspheres_microfacet_al_ag.dae"})
+    for (const char* engine : {"wavefront", "wavefront_no_packets", "wavefront_unsorted", "megakernel", "reference"}) {
       std::string name = std::string("render/") + scene_name + "/" + engine + "/threads:2";
       benchmark::RegisterBenchmark(name.c_str(), bench_render, std::string(scene_name), std::string(engine), 2)
           ->Unit(benchmark::kSecond)

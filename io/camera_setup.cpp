@@ -68,6 +68,10 @@ Camera resolve_camera(const CameraSettingsFile& f, int width, int height) {
   widen_to_aspect(hfov, vfov, width, height);
   c.tan_half_hfov = static_cast<float>(std::tan(hfov * kRadians / 2));
   c.tan_half_vfov = static_cast<float>(std::tan(vfov * kRadians / 2));
+  if (f.lens_radius > 0) {
+    c.lens_radius = f.lens_radius;
+    c.focal_distance = f.focal_distance;
+  }
   return c;
 }
 
@@ -94,6 +98,8 @@ CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) 
     throw InputError(path.string() + ": camera file fields of view must be between 0 and 180 degrees");
   if (!(f.near_clip >= 0 && f.far_clip > f.near_clip))
     throw InputError(path.string() + ": camera file needs 0 <= nClip < fClip");
+  if (!(f.lens_radius >= 0) || (f.lens_radius > 0 && !(f.focal_distance > 0)))
+    throw InputError(path.string() + ": camera file needs lensRadius >= 0, and focalDistance > 0 when lensRadius > 0");
   float3 cols[3] = {{f.c2w[0][0], f.c2w[1][0], f.c2w[2][0]},
                     {f.c2w[0][1], f.c2w[1][1], f.c2w[2][1]},
                     {f.c2w[0][2], f.c2w[1][2], f.c2w[2][2]}};
@@ -116,7 +122,8 @@ void write_camera_settings_file(const std::filesystem::path& path, const Camera&
     << " 1 0 1e30\n";
   float3 cols[3] = {c.screen_x, c.screen_y, c.to_camera};
   for (int i = 0; i < 3; ++i) o << cols[0][i] << " " << cols[1][i] << " " << cols[2][i] << "\n";
-  o << width << " " << height << " " << screen_dist << "\n0 0\n";
+  o << width << " " << height << " " << screen_dist << "\n"
+    << (c.thin_lens() ? c.focal_distance : 0.0f) << " " << c.lens_radius << "\n";
   write_file_atomically(path, o.str());
 }
 

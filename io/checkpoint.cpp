@@ -33,6 +33,15 @@ template <class T> bool take(std::string_view& in, T& v) {
 
 }  // namespace
 
+/// FNV-1a of the map's texels, read back through its lookup at texel centres.
+uint64_t environment_hash(const EnvironmentMap& env) {
+  std::vector<float3> texels;
+  texels.reserve(size_t(env.width()) * env.height());
+  for (int j = 0; j < env.height(); ++j)
+    for (int i = 0; i < env.width(); ++i) texels.push_back(env.lookup(i + 0.5f, j + 0.5f));
+  return fnv1a(texels.data(), texels.size() * sizeof(float3));
+}
+
 std::string render_fingerprint(const std::string& engine, const Scene& scene, const Camera& c,
                                const RenderSettings& rs) {
   std::ostringstream o;
@@ -44,7 +53,10 @@ std::string render_fingerprint(const std::string& engine, const Scene& scene, co
     << " l=" << rs.light_samples << " m=" << rs.max_depth << " a=" << rs.adaptive_batch << "," << rs.adaptive_tolerance
     << " rr=" << rs.rr_continue << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)
     << " shading=" << int(rs.shading) << " seed=" << rs.seed << " quirks=" << rs.cs184_light_quirk
-    << rs.cs184_invisible_sky << rs.cs184_light_pdf;
+    << rs.cs184_invisible_sky << rs.cs184_light_pdf << rs.cs184_materials;
+  if (scene.environment)
+    o << " environment=" << scene.environment->width() << "x" << scene.environment->height() << ","
+      << environment_hash(*scene.environment);
   if (rs.region) o << " region=" << rs.region->x << "," << rs.region->y << "," << rs.region->width << "," << rs.region->height;
   return o.str();
 }

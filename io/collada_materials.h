@@ -1,6 +1,7 @@
-// Turns <material> elements into the scene's Lambertian / emitter materials:
-// <material> -> <instance_effect> -> <effect>; CGL emission makes an emitter,
-// otherwise the common profile's diffuse colour is the albedo.
+// Turns <material> elements into the scene's materials: <material> ->
+// <instance_effect> -> <effect>; CGL emission makes an emitter, a CGL mirror,
+// glass, refraction or microfacet element that kind of material, otherwise
+// the common profile's diffuse colour is a Lambertian albedo.
 #pragma once
 
 #include <cstdint>
@@ -24,6 +25,9 @@ class MaterialTable {
 
  private:
   Material read(pugi::xml_node material);
+  void read_scattering(pugi::xml_node cgl_material, Material& m);
+  float3 fraction(pugi::xml_node parent, const char* name, float3 fallback);
+  float index_of_refraction(pugi::xml_node parent);
 
   ColladaDocument& doc_;
   Scene& scene_;

@@ -1,5 +1,6 @@
 // The camera ray of sample `sample` of pixel (x, y): jittered uniformly inside
-// the pixel by the sample's own random numbers. Pixel (0, 0) is top-left.
+// the pixel by the sample's own random numbers, and through a point of the
+// lens for a thin-lens camera. Pixel (0, 0) is top-left.
 #pragma once
 
 #include "camera.h"
@@ -16,7 +17,13 @@ inline uint32_t pixel_index(const RenderSettings& rs, int x, int y) {
 inline Ray jittered_camera_ray(const Camera& c, const RenderSettings& rs, int x, int y, const PathSampler& ps) {
   float jx, jy;
   ps.get2d(dims::kCameraBounce, dims::kPixelJitter, jx, jy);
-  return camera_ray(c, (x + jx) / rs.width, 1.0f - (y + jy) / rs.height);
+  const float sx = (x + jx) / rs.width, sy = 1.0f - (y + jy) / rs.height;
+  if (!c.thin_lens()) return camera_ray(c, sx, sy);
+  float u1, u2;
+  ps.get2d(dims::kCameraBounce, dims::kLens, u1, u2);
+  Vec3T<float> org, dir;
+  thin_lens_ray(c, sx, sy, u1, u2, org, dir);
+  return {to_float3(org), c.near_clip, to_float3(dir), c.far_clip};
 }
 
 }  // namespace pt

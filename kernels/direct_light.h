@@ -30,11 +30,48 @@ struct ShadingPointT {
 };
 
 /// cos / pdf of a light sample, times the power-heuristic weight against the
-/// Lambertian BSDF sample (pdf cos / pi) when `mis_count` (the light's sample
-/// count) is positive.
-template <class T> inline T light_sample_factor(T cos_s, T pdf, T mis_count) {
+/// BSDF sample (pdf `bsdf_pdf`) when `mis_count` (the light's sample count) is
+/// positive.
+template <class T> inline T light_sample_factor(T cos_s, T pdf, T mis_count, T bsdf_pdf) {
   T g = cos_s / pdf;
-  return g * lane::select(mis_count > T(0.0f), power_heuristic(mis_count * pdf, cos_s * T(kInvPi)), T(1.0f));
+  return g * lane::select(mis_count > T(0.0f), power_heuristic(mis_count * pdf, bsdf_pdf), T(1.0f));
+}
+
+/// The Lambertian BSDF's pdf of a direction at cosine cos_s (cos / pi), as
+/// sample_light_sources' `bsdf_pdf` argument.
+struct LambertianPdf {
+  template <class T> T operator()(const Vec3T<T>&, T cos_s) const { return cos_s * T(kInvPi); }
+};
+
+/// An environment-map sample per lane (scalar lookups: the map's CDFs are
+/// searched lane by lane); `ok` is false where the pdf is 0.
+template <class T>
+struct EnvironmentSampleT {
+  Vec3T<T> wi, radiance;
+  T pdf;
+  lane::mask_t<T> ok;
+};
+
+template <class T> inline EnvironmentSampleT<T> sample_environment(const EnvironmentMap& env, T u1, T u2) {
+  if constexpr (lane::is_scalar_v<T>) {
+    EnvironmentMap::Sample s = env.sample(u1, u2);
+    bool ok = s.pdf > 0.0f;
+    return {vec3t(s.wi), vec3t(s.radiance), ok ? s.pdf : 1.0f, ok};
+  } else {
+    constexpr size_t K = T::size;
+    alignas(64) float a[K], b[K], out[7][K];
+    u1.store_aligned(a);
+    u2.store_aligned(b);
+    for (size_t l = 0; l < K; ++l) {
+      EnvironmentMap::Sample s = env.sample(a[l], b[l]);
+      const float v[7] = {s.wi.x, s.wi.y, s.wi.z, s.radiance.x, s.radiance.y, s.radiance.z, s.pdf};
+      for (int c = 0; c < 7; ++c) out[c][l] = v[c];
+    }
+    auto ld = [&](int c) { return T::load_aligned(out[c]); };
+    T pdf = ld(6);
+    auto ok = pdf > T(0.0f);
+    return {{ld(0), ld(1), ld(2)}, {ld(3), ld(4), ld(5)}, lane::select(ok, pdf, T(1.0f)), ok};
+  }
 }
 
 /// A delta light's sample: unit direction, distance (kInfinity for
@@ -59,9 +96,12 @@ template <class T> inline DeltaLightSampleT<T> sample_point_light(const PointLig
 /// divided by its pdf and sample count and multiplied by the cosine at the
 /// surface (and the MIS weight where `bsdf_competes`); `ok` marks the lanes
 /// where it can arrive (light facing the point, above both normals).
-template <class T, class U, class Shadow>
+/// `bsdf_pdf(wi, cos)` is the pdf with which the vertex's BSDF sample picks
+/// wi (LambertianPdf, or the rough conductor's).
+template <class T, class U, class BsdfPdf, class Shadow>
 void sample_light_sources(const Scene& scene, const RenderSettings& rs, const ShadingPointT<T>& sp,
-                          const PathSamplerT<U, T>& ps, uint32_t vertex, bool bsdf_competes, Shadow&& shadow) {
+                          const PathSamplerT<U, T>& ps, uint32_t vertex, bool bsdf_competes, BsdfPdf&& bsdf_pdf,
+                          Shadow&& shadow) {
   const int n = rs.light_samples;
   const T inv_n(1.0f / static_cast<float>(n));
   const T mis_count(bsdf_competes ? static_cast<float>(n) : 0.0f);
@@ -76,8 +116,9 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
     for (int j = 0; j < n; ++j, ++k) {
       ps.get2d(vertex, dims::light_dim(k), u1, u2);
       AreaLightSampleT<T> ls = sample_area_light<T>(light, sp.p.x, sp.p.y, sp.p.z, u1, u2, rs.cs184_light_pdf);
+      T cos_s = dot3(sp.ns, ls.wi);
       emit(ls.facing, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance,
-           light_sample_factor(dot3(sp.ns, ls.wi), ls.pdf, mis_count) * inv_n);
+           light_sample_factor(cos_s, ls.pdf, mis_count, bsdf_pdf(ls.wi, cos_s)) * inv_n);
     }
   for (const PointLight& light : scene.point_lights) {
     DeltaLightSampleT<T> ls = sample_point_light<T>(light, sp.p);
@@ -87,12 +128,23 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
     Vec3T<T> wi{T(light.to_light.x), T(light.to_light.y), T(light.to_light.z)};
     emit(sp.on, wi, T(kInfinity), light.radiance, dot3(sp.ns, wi));
   }
-  if (scene.sky)
+  if (scene.environment)
+    for (int j = 0; j < n; ++j, ++k) {
+      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+      EnvironmentSampleT<T> es = sample_environment(*scene.environment, u1, u2);
+      T cos_s = dot3(sp.ns, es.wi);
+      T factor = light_sample_factor(cos_s, es.pdf, mis_count, bsdf_pdf(es.wi, cos_s)) * inv_n;
+      lane::mask_t<T> ok = sp.on && es.ok && dot3(sp.ns, es.wi) > T(0.0f) && dot3(sp.ng, es.wi) > T(0.0f);
+      Vec3T<T> weight{es.radiance.x * factor, es.radiance.y * factor, es.radiance.z * factor};
+      shadow(ok, offset_origin(sp.p, sp.ng, sp.offset, es.wi), es.wi, T(kInfinity), weight);
+    }
+  else if (scene.sky)
     for (int j = 0; j < n; ++j, ++k) {
       ps.get2d(vertex, dims::light_dim(k), u1, u2);
       Vec3T<T> wi = sample_sky_direction(u1, u2);
+      T cos_s = dot3(sp.ns, wi);
       emit(sp.on, wi, T(kInfinity), scene.sky->radiance,
-           light_sample_factor(dot3(sp.ns, wi), T(kInv2Pi), mis_count) * inv_n);
+           light_sample_factor(cos_s, T(kInv2Pi), mis_count, bsdf_pdf(wi, cos_s)) * inv_n);
     }
 }
 

@@ -10,6 +10,10 @@ namespace pt {
 
 template <class T> struct Vec3T { T x, y, z; };
 
+template <class T> inline Vec3T<T> select3(lane::mask_t<T> m, const Vec3T<T>& a, const Vec3T<T>& b) {
+  return {lane::select(m, a.x, b.x), lane::select(m, a.y, b.y), lane::select(m, a.z, b.z)};
+}
+
 inline Vec3T<float> vec3t(const float3& a) { return {a.x, a.y, a.z}; }
 inline float3 to_float3(const Vec3T<float>& v) { return {v.x, v.y, v.z}; }
 

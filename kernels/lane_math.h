@@ -3,6 +3,7 @@
 // For scalars these forward to <cmath>; for batches to xsimd.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
@@ -72,6 +73,62 @@ template <class T> inline void sincos_2pi(T u, T& s, T& c) {
 template <class T> inline T sign_of(T x) {
   if constexpr (is_scalar_v<T>) return std::copysign(1.0f, x);
   else return xsimd::copysign(T(1.0f), x);
+}
+
+
+/// The float's bits scaled by 2^n for integral n in [-126, 127] (exact).
+template <class T> inline T exp2_int(T n) {
+  if constexpr (is_scalar_v<T>) {
+    return std::bit_cast<float>(static_cast<int32_t>(n + 127.0f) << 23);
+  } else {
+    auto bits = xsimd::batch_cast<int32_t>(n + T(127.0f)) << 23;
+    return xsimd::bitwise_cast<T>(bits);
+  }
+}
+
+/// e^x with relative error < 3e-7, 0 below -87 and clamped above 88, by the
+/// same operations for a float and a batch (identical bits at every ISA).
+template <class T> inline T exp(T x) {
+  T xc = min(max(x, T(-87.0f)), T(88.0f));
+  T n = floor(xc * T(1.44269504088896341f) + T(0.5f));
+  T r = (xc - n * T(0.693145751953125f)) - n * T(1.42860682030941723e-6f);  // ln 2 in two parts
+  T p = T(1.0f / 5040.0f);
+  p = p * r + T(1.0f / 720.0f);
+  p = p * r + T(1.0f / 120.0f);
+  p = p * r + T(1.0f / 24.0f);
+  p = p * r + T(1.0f / 6.0f);
+  p = p * r + T(0.5f);
+  p = p * r + T(1.0f);
+  p = p * r + T(1.0f);
+  return select(x < T(-87.0f), T(0.0f), p * exp2_int(n));
+}
+
+/// Natural logarithm of x > 0 (normal floats) with absolute error < 3e-7:
+/// x = m 2^e with m in [sqrt(1/2), sqrt(2)), log m = 2 atanh((m - 1) / (m + 1)).
+template <class T> inline T log(T x) {
+  T e, m;
+  if constexpr (is_scalar_v<T>) {
+    int32_t bits = std::bit_cast<int32_t>(x);
+    e = static_cast<float>((bits >> 23) - 127);
+    m = std::bit_cast<float>((bits & 0x007fffff) | 0x3f800000);
+  } else {
+    using I = xsimd::batch<int32_t, typename T::arch_type>;
+    I bits = xsimd::bitwise_cast<I>(x);
+    e = xsimd::batch_cast<float>((bits >> 23) - I(127));
+    m = xsimd::bitwise_cast<T>((bits & I(0x007fffff)) | I(0x3f800000));
+  }
+  mask_t<T> big = m > T(1.41421356237309505f);
+  m = select(big, m * T(0.5f), m);
+  e = select(big, e + T(1.0f), e);
+  T s = (m - T(1.0f)) / (m + T(1.0f));
+  T s2 = s * s;
+  T p = T(2.0f / 11.0f);
+  p = p * s2 + T(2.0f / 9.0f);
+  p = p * s2 + T(2.0f / 7.0f);
+  p = p * s2 + T(2.0f / 5.0f);
+  p = p * s2 + T(2.0f / 3.0f);
+  p = p * s2 + T(2.0f);
+  return e * T(0.693147180559945309f) + s * p;
 }
 
 }  // namespace pt::lane

@@ -56,6 +56,7 @@ struct RenderSettings {
   bool cs184_light_quirk = false;  ///< area lights look as the course renderer shows them
   bool cs184_invisible_sky = false;///< escaped rays see no sky (course renderer)
   bool cs184_light_pdf = false;    ///< area-light samples weighted by their distance (course renderer's pdf)
+  bool cs184_materials = false;    ///< the course's Fresnel approximations and refraction scaling (bsdf.h)
 
   bool adaptive() const { return adaptive_tolerance > 0.0f && adaptive_batch > 0; }
   /// Whether direct light is estimated by tracing rays that find emitters.

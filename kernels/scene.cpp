@@ -5,6 +5,11 @@
 
 namespace pt {
 
+void set_environment(Scene& s, std::shared_ptr<const EnvironmentMap> map) {
+  s.environment = std::move(map);
+  s.sky = SkyLight{float3(0.0f)};
+}
+
 BBox compute_scene_bounds(const Scene& s) {
   BBox b;
   for (const TriangleIndices& t : s.triangles) {

@@ -4,12 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "bbox.h"
+#include "environment_map.h"
 #include "lights.h"
 #include "vec3.h"
 
@@ -21,17 +23,41 @@ struct TriangleIndices {
 };
 static_assert(sizeof(TriangleIndices) == 12);
 
-/// 32 bytes. Lambertian reflector (BSDF = albedo / pi) and/or emitter.
+/// How a material scatters light (README, "Materials").
+enum class MaterialKind : uint32_t {
+  kDiffuse,     ///< Lambertian: albedo / pi (emitters are diffuse with black albedo)
+  kMirror,      ///< perfect specular reflection, scaled by albedo (reflectance)
+  kGlass,       ///< smooth dielectric: Fresnel-weighted reflection (albedo) and refraction (transmittance)
+  kRefraction,  ///< smooth dielectric, refraction only (transmittance)
+  kMicrofacet,  ///< rough conductor: Beckmann distribution, Smith shadowing, conductor Fresnel (eta, k)
+};
+inline constexpr uint32_t kMaterialKindCount = 5;
+
+/// Whether a kind scatters into a single direction (no light sampling).
+constexpr bool is_delta(MaterialKind k) {
+  return k == MaterialKind::kMirror || k == MaterialKind::kGlass || k == MaterialKind::kRefraction;
+}
+
+/// Smallest Beckmann roughness rendered (smaller values are raised to it):
+/// keeps D(h) finite in float.
+inline constexpr float kMinMicrofacetAlpha = 1e-4f;
+
+/// 80 bytes. A reflector of one kind and/or an emitter.
 struct Material {
-  float3 albedo{0.5f};
+  float3 albedo{0.5f};       ///< diffuse albedo; reflectance of mirror and glass
   float3 emission{0.0f};
   int32_t area_light = -1;   ///< area light whose geometry this is, or -1
   uint32_t flags = 0;        ///< kOneSided: emits only where the normal points
+  MaterialKind kind = MaterialKind::kDiffuse;
+  float ior = 1.0f;          ///< glass, refraction: inside index / outside index
+  float alpha = 0.0f;        ///< microfacet: Beckmann roughness
+  float3 transmittance{0.0f};///< glass, refraction
+  float3 eta{0.0f}, k{0.0f}; ///< microfacet: conductor's complex index per RGB channel
 
   static constexpr uint32_t kOneSided = 1;
   bool is_emitter() const { return !is_black(emission); }
 };
-static_assert(sizeof(Material) == 32);
+static_assert(sizeof(Material) == 80);
 
 /// 20 bytes.
 struct Sphere {
@@ -64,7 +90,8 @@ struct Scene {
   std::vector<AreaLight> area_lights;
   std::vector<PointLight> point_lights;
   std::vector<DirectionalLight> directional_lights;
-  std::optional<SkyLight> sky;
+  std::optional<SkyLight> sky;  ///< set (black) when an environment map replaces it
+  std::shared_ptr<const EnvironmentMap> environment;  ///< -e: lights and is seen in every direction
 
   CameraDescription camera;
   BBox bounds;  ///< of all triangles and spheres
@@ -73,10 +100,28 @@ struct Scene {
     return area_lights.size() + point_lights.size() + directional_lights.size() + (sky ? 1 : 0);
   }
   size_t primitive_count() const { return triangles.size() + spheres.size(); }
+  /// Bit (1 << kind) set for each material kind some material has.
+  uint32_t material_kinds() const {
+    uint32_t bits = 0;
+    for (const Material& m : materials) bits |= 1u << static_cast<uint32_t>(m.kind);
+    return bits;
+  }
   bool has_delta_lights_only() const {
     return area_lights.empty() && !sky && (!point_lights.empty() || !directional_lights.empty());
   }
 };
+
+/// Radiance a ray escaping the scene in unit direction d sees: the
+/// environment map's, else the sky's (the scene must have one of them).
+inline float3 sky_radiance(const Scene& s, const float3& d) {
+  return s.environment ? s.environment->radiance(d) : sky_radiance(*s.sky, d);
+}
+
+/// Solid-angle pdf with which light sampling picks escape direction d.
+inline float sky_pdf(const Scene& s, const float3& d) { return s.environment ? s.environment->pdf(d) : kInv2Pi; }
+
+/// Makes `map` the scene's sky: it replaces the file's sky light, if any.
+void set_environment(Scene& s, std::shared_ptr<const EnvironmentMap> map);
 
 /// Recomputes bounds from triangles and spheres.
 BBox compute_scene_bounds(const Scene& s);

@@ -74,8 +74,8 @@ inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, 
   const float n = static_cast<float>(rs.light_samples);
   if (!hit) {
     if (!s.sky || rs.cs184_invisible_sky) return {};
-    float3 L = sky_radiance(*s.sky, ray.dir);
-    return is_black(L) ? L : L * power_heuristic(bsdf_pdf, n * kInv2Pi);
+    float3 L = sky_radiance(s, ray.dir);
+    return is_black(L) ? L : L * power_heuristic(bsdf_pdf, n * sky_pdf(s, ray.dir));
   }
   SurfacePoint sp = surface_at(s, ray, *hit);
   const Material& m = s.materials[sp.material];
@@ -84,6 +84,16 @@ inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, 
   if (is_black(L)) return L;
   return L * power_heuristic(bsdf_pdf, n * area_light_pdf(s.area_lights[m.area_light], ray.dir, hit->t,
                                                           rs.cs184_light_pdf));
+}
+
+/// Light that a ray leaving a delta lobe (mirror, glass, refraction) finds,
+/// at full weight: no light sample was taken at its vertex, so whatever it
+/// reaches counts, the emission of the surface `sp` it hits (any emitter), or
+/// the sky where it escapes (sp == nullptr).
+inline float3 light_found_after_delta(const Scene& s, const RenderSettings& rs, const Ray& ray,
+                                      const SurfacePoint* sp) {
+  if (!sp) return s.sky && !rs.cs184_invisible_sky ? sky_radiance(s, ray.dir) : float3{};
+  return emitted_radiance(s, *sp, ray, rs);
 }
 
 /// The assignment's normal shading: n * 0.5 + 0.5 of the stored shading normal.

@@ -32,9 +32,6 @@ struct SurfacePoint {
 
 template <class T> inline T dot3(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 template <class T> inline Vec3T<T> scale3(const Vec3T<T>& a, T s) { return {a.x * s, a.y * s, a.z * s}; }
-template <class T> inline Vec3T<T> select3(lane::mask_t<T> m, const Vec3T<T>& a, const Vec3T<T>& b) {
-  return {lane::select(m, a.x, b.x), lane::select(m, a.y, b.y), lane::select(m, a.z, b.z)};
-}
 
 /// Lane-generic triangle part of surface_at: the same operations, in the same
 /// order, for one float or a SIMD batch.

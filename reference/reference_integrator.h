@@ -20,6 +20,7 @@
 #include "kernels/scene.h"
 #include "kernels/shading.h"
 #include "kernels/surface.h"
+#include "kernels/surface_bsdf.h"
 
 namespace pt::reference {
 
@@ -41,16 +42,21 @@ class ReferenceIntegrator {
     float3 L, beta{1.0f};
     if (rules_.counts(0)) L += emitted_radiance(scene_, sp, ray, rs_);
     for (uint32_t vertex = 1;; ++vertex) {
-      const float3 albedo = scene_.materials[sp.material].albedo;
-      const ShadingPointT<float> point = shading_point(sp, !is_black(albedo));
-      if (rules_.estimates_direct_light(vertex))
-        L += beta * albedo * kInvPi * direct_light(point, ps, vertex, stats);
+      const Material& material = scene_.materials[sp.material];
+      const SurfaceBsdf bsdf(material, sp, ray.dir, rs_);
+      const ShadingPointT<float> point = shading_point(sp, bsdf.samples_lights());
+      if (rules_.estimates_direct_light(vertex) && point.on) {
+        if (bsdf.lambertian())
+          L += beta * material.albedo * kInvPi * direct_light(point, ps, vertex, stats, nullptr);
+        else
+          L += beta * direct_light(point, ps, vertex, stats, &bsdf);
+      }
       if (!rules_.traces_bsdf_ray(vertex)) break;
 
-      // Continue: a cosine-weighted bounce (f cos / pdf = albedo), then Russian roulette.
-      BsdfSampleT<float> bs = sample_lambertian(point, ps, vertex);
+      // Continue: the BSDF's sample (f cos / pdf = weight), then Russian roulette.
+      const BsdfScatter bs = bsdf.sample(point, ps, vertex);
       if (!bs.ok) break;
-      beta = beta * albedo;
+      beta = beta * bs.weight;
       if (PathRules::roulette_applies(vertex)) {
         float p = continuation_probability(rs_, max_component(beta));
         if (ps.get1d(vertex, dims::kRoulette) >= p) break;
@@ -60,26 +66,32 @@ class ReferenceIntegrator {
       ray = Ray{offset_origin(sp, wi), 0.0f, wi, kInfinity};
       ++stats.bounce_rays;
       bool found = accel_.intersect(ray, hit, stats.intersection_tests);
-      if (rules_.bsdf_competes(vertex)) L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
-      if (!found) break;
-      sp = surface_at(scene_, ray, hit);
-      if (emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
-        L += beta * emitted_radiance(scene_, sp, ray, rs_);
-      if (!rules_.continues(vertex)) break;  // the final bounce only collects emission
+      if (found) sp = surface_at(scene_, ray, hit);
+      if (bs.delta) {
+        if (rules_.counts(vertex)) L += beta * light_found_after_delta(scene_, rs_, ray, found ? &sp : nullptr);
+      } else {
+        if (rules_.bsdf_competes(vertex))
+          L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
+        if (found && emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
+          L += beta * emitted_radiance(scene_, sp, ray, rs_);
+      }
+      if (!found || !rules_.continues(vertex)) break;  // the final bounce only collects emission
     }
     return L;
   }
 
  private:
   bool sky_visible() const { return scene_.sky && !rs_.cs184_invisible_sky; }
-  float3 sky(const float3& dir) const { return sky_visible() ? sky_radiance(*scene_.sky, dir) : float3{}; }
+  float3 sky(const float3& dir) const { return sky_visible() ? sky_radiance(scene_, dir) : float3{}; }
 
-  /// Incident radiance at vertex `vertex` from its direct-light samples
-  /// (before the BSDF), each shadow or probe ray traced at once.
-  float3 direct_light(const ShadingPointT<float>& point, const PathSampler& ps, uint32_t vertex,
-                      RenderStats& stats) const {
+  /// Direct light at vertex `vertex` from its light samples, each shadow or
+  /// probe ray traced at once: the incident radiance (cos / pdf weighted)
+  /// before the Lambertian BSDF when `glossy` is null, else times the rough
+  /// conductor's f.
+  float3 direct_light(const ShadingPointT<float>& point, const PathSampler& ps, uint32_t vertex, RenderStats& stats,
+                      const SurfaceBsdf* glossy) const {
     float3 sum;
-    if (!point.on) return sum;
+    auto f = [&](const Vec3T<float>& wi) { return glossy ? to_float3(glossy->eval(wi).f) : float3(1.0f); };
     if (rs_.direct_by_hitting()) {
       sample_hemisphere_rays(scene_, rs_, point, ps, vertex,
                              [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float weight) {
@@ -90,18 +102,21 @@ class ReferenceIntegrator {
                                float3 incoming = accel_.intersect(ray, hit, stats.intersection_tests)
                                                      ? emitted_radiance(scene_, surface_at(scene_, ray, hit), ray, rs_)
                                                      : sky(ray.dir);
-                               sum += incoming * weight;
+                               if (!is_black(incoming)) sum += incoming * weight * f(wi);
                              });
       return sum;
     }
-    sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
-                         [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax,
-                             const Vec3T<float>& weight) {
-                           if (!ok) return;
-                           ++stats.shadow_rays;
-                           if (!accel_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
-                             sum += to_float3(weight);
-                         });
+    auto shadow = [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax, const Vec3T<float>& weight) {
+      if (!ok) return;
+      ++stats.shadow_rays;
+      if (!accel_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
+        sum += to_float3(weight) * f(wi);
+    };
+    if (glossy)
+      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
+                           [&](const Vec3T<float>& wi, float) { return glossy->eval(wi).pdf; }, shadow);
+    else
+      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex), LambertianPdf{}, shadow);
     return sum;
   }
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The render benchmark in one command: builds bench_render (Release; the
 # engines run at the level PT_ISA names, default the widest this CPU runs),
-# renders CBbunny, CBspheres_lambertian and CBcoil at 480x360,
-# -s 64 -l 4 -m 5, 2 threads, with the wavefront (with and without packets),
+# renders CBbunny, CBspheres_lambertian, CBcoil, CBgems and
+# CBspheres_microfacet_al_ag at 480x360, -s 64 -l 4 -m 5, 2 threads, with the
+# wavefront (with and without packets, sorted by material or not),
 # megakernel and reference engines interleaved, REPS times each (default 3),
 # writes out/bench_render.json and prints medians and the engine ratios.
 #   bash scripts/bench_render.sh [REPS] [extra Google Benchmark flags]

@@ -8,7 +8,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libxsimd-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libstb-dev libpugixml-dev libcli11-dev
+  libstb-dev libpugixml-dev libcli11-dev libtinyexr-dev
   libembree-dev                 # optional: only the benchmark compares against it
   clang libclang-rt-14-dev      # libFuzzer and the sanitizer build
   python3-matplotlib            # convergence charts
@@ -17,7 +17,7 @@ sudo_cmd=""
 [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
 if [ "${1:-}" = --aarch64 ]; then
   packages+=(g++-aarch64-linux-gnu qemu-user libtbb-dev:arm64 libpugixml-dev:arm64 libgtest-dev:arm64
-             libgmock-dev:arm64)
+             libgmock-dev:arm64 libtinyexr-dev:arm64)
   if ! dpkg --print-foreign-architectures | grep -qx arm64; then
     $sudo_cmd dpkg --add-architecture arm64
   fi

@@ -7,11 +7,13 @@
 #include <cctype>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "io/image_output.h"
 #include "kernels/isa.h"
+#include "io/exr_image.h"
 #include "run_process.h"
 #include "test_support.h"
 
@@ -83,6 +85,10 @@ const std::vector<BadFlags> kBadFlags = {
     {{"--checkpoint-every", "0"},
      "error: --checkpoint-every: checkpoint interval must be a positive number of seconds, got \"0\""},
     {{"--isa", "sse5"}, "error: --isa: unknown instruction set \"sse5\" (one of: auto, sse4.2, avx2, avx512, neon)"},
+    {{"-b", "-1"}, "error: -b: lens radius must be a number >= 0 (0: pinhole), got \"-1\""},
+    {{"-b", "inf"}, "error: -b: lens radius must be a number >= 0 (0: pinhole), got \"inf\""},
+    {{"-d", "0"}, "error: -d: focal distance must be a positive number, got \"0\""},
+    {{"-e"}, "error: -e: missing value"},
     {{"--bogus"}, "error: The following argument was not expected: --bogus (see --help)"},
     {{"a.dae", "b.dae"}, "error: The following argument was not expected: b.dae (see --help)"},
     {{"-c", "-q"}, "error: -c: missing value before -q"},
@@ -159,6 +165,60 @@ TEST(CameraFile, WrittenByARenderIsAccepted) {
   test::ProcessResult r = run(dir, {"-q", "-r", "4", "3", "-f", "out.png", "-c", "cam.txt"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "out.png"));
+}
+
+// ------------------------------------------------------------------ thin lens
+
+TEST(ThinLens, ApertureZeroIsThePinholeBitForBit) {
+  test::ScratchDir dir;
+  const std::vector<std::string> common = {"-q", "-r", "24", "18", "-s", "4", "-m", "2"};
+  auto with = [&](std::vector<std::string> extra, const char* out) {
+    std::vector<std::string> args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    args.insert(args.end(), {"-f", out});
+    test::ProcessResult r = run(dir, args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return test::file_bytes(dir / out);
+  };
+  std::string pinhole = with({}, "pinhole.png");
+  EXPECT_EQ(with({"-b", "0", "-d", "2.5"}, "b0.png"), pinhole);
+  EXPECT_NE(with({"-b", "0.2", "-d", "2.5"}, "lens.png"), pinhole);
+}
+
+TEST(ThinLens, TheCameraFileCarriesTheLensAndIsHonoured) {
+  test::ScratchDir dir;
+  test::ProcessResult r =
+      run(dir, {"-q", "-r", "24", "18", "-s", "4", "-b", "0.15", "-d", "3.5", "-f", "a.png", "--write-camera", "cam.txt"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string cam = test::file_bytes(dir / "cam.txt");
+  std::istringstream last(cam.substr(cam.find_last_of('\n', cam.size() - 2) + 1));
+  float focal = 0, radius = 0;
+  last >> focal >> radius;
+  EXPECT_EQ(focal, 3.5f) << cam;
+  EXPECT_EQ(radius, 0.15f) << cam;
+  r = run(dir, {"-q", "-r", "24", "18", "-s", "4", "-c", "cam.txt", "-f", "b.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::file_bytes(dir / "a.png"), test::file_bytes(dir / "b.png"));
+}
+
+// ------------------------------------------------------------ environment maps
+
+TEST(EnvironmentMap, AMapReplacesTheSkyAndABadOneIsOneLineWithNoOutput) {
+  test::ScratchDir dir;
+  write_exr((dir / "sky.exr").string(), RgbImage{8, 4, std::vector<float3>(32, float3(0.5f, 0.6f, 0.7f))});
+  test::ProcessResult r = run(dir, {"-q", "-r", "16", "12", "-s", "4", "-e", "sky.exr", "-f", "lit.png"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "lit.png"));
+  std::vector<std::string> before = dir.entries();
+  expect_refused(dir, before, run(dir, {"-q", "-f", "out.png", "-e", "missing.exr"}), 1,
+                 "error: missing.exr: no such file");
+  dir.write("junk.exr", "not an image");
+  before = dir.entries();
+  test::ProcessResult junk = run(dir, {"-q", "-f", "out.png", "-e", "junk.exr"});
+  EXPECT_EQ(junk.exit_code, 1);
+  EXPECT_EQ(junk.err.rfind("error: junk.exr: ", 0), 0u) << junk.err;
+  EXPECT_EQ(std::count(junk.err.begin(), junk.err.end(), '\n'), 1) << junk.err;
+  EXPECT_EQ(dir.entries(), before);
 }
 
 // ------------------------------------------------------------ unwritable outputs

@@ -31,6 +31,7 @@ struct Mode {
 
 const Mode kModes[] = {
     {"light_sampling", [](RenderSettings& rs) { rs.max_depth = 4; rs.light_samples = 2; }},
+    {"mis", [](RenderSettings& rs) { rs.max_depth = 4; rs.direct = DirectLighting::kMis; }},
     {"hemisphere", [](RenderSettings& rs) { rs.max_depth = 3; rs.direct = DirectLighting::kHemisphere; }},
     {"normals", [](RenderSettings& rs) { rs.shading = ShadingMode::kNormals; }},
     {"only_bounce_2", [](RenderSettings& rs) { rs.max_depth = 2; rs.bounces = BounceMode::kOnlyBounceM; }},
@@ -80,7 +81,8 @@ double agreement(const Film& a, const Film& b, std::string& report) {
 }
 
 std::vector<std::string> scenes_to_test() {
-  std::vector<std::string> paths = {test::project_scene("cornell_spheres.dae").string()};
+  std::vector<std::string> paths = {test::project_scene("cornell_spheres.dae").string(),
+                                    test::project_scene("cornell_materials.dae").string()};
   if (test::shared_scenes_available())
     for (const std::string& n : test::shared_scene_names()) paths.push_back(test::shared_scene(n).string());
   return paths;
@@ -158,9 +160,11 @@ TEST(EngineAgreement, EveryLevelThisCpuRunsRendersTheSameImage) {
 // Two renders with different seeds agree within noise
 // (test::expect_same_image_within_noise, statistics.h).
 TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
-  std::vector<std::string> scenes = {test::project_scene("cornell_spheres.dae").string()};
+  std::vector<std::string> scenes = {test::project_scene("cornell_spheres.dae").string(),
+                                     test::project_scene("cornell_materials.dae").string()};
   if (test::shared_scenes_available())
-    for (const char* n : {"CBspheres_lambertian.dae", "CBempty.dae", "CBbunny.dae", "bunny.dae", "banana.dae"})
+    for (const char* n : {"CBspheres_lambertian.dae", "CBempty.dae", "CBbunny.dae", "bunny.dae", "banana.dae", "CBgems.dae",
+                          "CBcoil.dae", "CBspheres_microfacet_al_ag.dae", "bunny_microfacet_cu.dae"})
       scenes.push_back(test::shared_scene(n).string());
   for (const std::string& path : scenes) {
     Scene scene = load_collada_file(path).scene;
@@ -203,28 +207,32 @@ void expect_identical(const Film& a, const Film& b, const std::string& what) {
 }
 
 TEST(Determinism, ThreadCountAndWaveSizeDoNotChangeTheImage) {
-  Scene scene = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
-  RenderSettings rs = small_settings(48, 3);
-  rs.max_depth = 5;
-  rs.adaptive_batch = 16;
-  rs.adaptive_tolerance = 0.05f;  // adaptive on: the active set changes between passes
-  Camera cam = resolve_camera(scene, rs.width, rs.height);
-  SceneBvh2 accel(scene, Bvh2Mode::kMidpoint);
-  wf::Tracing tracer{.bvh2 = &accel};
+  for (const char* name : {"cornell_spheres.dae", "cornell_materials.dae"}) {
+    Scene scene = load_collada_file(test::project_scene(name)).scene;
+    RenderSettings rs = small_settings(48, 3);
+    rs.max_depth = 5;
+    rs.adaptive_batch = 16;
+    rs.adaptive_tolerance = 0.05f;  // adaptive on: the active set changes between passes
+    Camera cam = resolve_camera(scene, rs.width, rs.height);
+    SceneBvh2 accel(scene, Bvh2Mode::kMidpoint);
+    wf::Tracing tracer{.bvh2 = &accel};
 
-  rs.threads = 1;
-  Film base = wf::render_wavefront(scene, cam, rs, tracer, {4096}).film;
-  for (auto [threads, wave] : {std::pair{2, 4096}, {2, 333}, {2, 16}, {1, 100000}}) {
-    rs.threads = threads;
-    expect_identical(base, wf::render_wavefront(scene, cam, rs, tracer, {size_t(wave)}).film,
-                     "wavefront threads " + std::to_string(threads) + " wave " + std::to_string(wave));
+    rs.threads = 1;
+    Film base = wf::render_wavefront(scene, cam, rs, tracer, {4096}).film;
+    for (auto [threads, wave] : {std::pair{2, 4096}, {2, 333}, {2, 16}, {1, 100000}}) {
+      rs.threads = threads;
+      expect_identical(base, wf::render_wavefront(scene, cam, rs, tracer, {size_t(wave)}).film,
+                       std::string(name) + ": wavefront threads " + std::to_string(threads) + " wave " +
+                           std::to_string(wave));
+    }
+    rs.threads = 1;
+    Film mk1 = wf::render_megakernel(scene, cam, rs, tracer).film;
+    rs.threads = 2;
+    expect_identical(mk1, wf::render_megakernel(scene, cam, rs, tracer).film,
+                     std::string(name) + ": megakernel threads 1 vs 2");
+    // Same random numbers, same adaptive decisions: the megakernel's paths are the reference's.
+    EXPECT_EQ(mk1.samples, base.samples) << name;
   }
-  rs.threads = 1;
-  Film mk1 = wf::render_megakernel(scene, cam, rs, tracer).film;
-  rs.threads = 2;
-  expect_identical(mk1, wf::render_megakernel(scene, cam, rs, tracer).film, "megakernel threads 1 vs 2");
-  // Same random numbers, same adaptive decisions: the megakernel's paths are the reference's.
-  EXPECT_EQ(mk1.samples, base.samples);
 }
 
 }  // namespace

@@ -193,6 +193,16 @@ std::vector<HostileFile> value_cases() {
       {"infinite_diffuse_colour", [] { return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
           <color>inf 0 0 1</color></diffuse></lambert></technique></profile_COMMON>)"); }, Outcome::kError,
        "<color>", "non-finite number \"inf\""},
+      {"negative_ior", [] { return effect_file(R"(<extra><technique profile="CGL"><glass><ior>-1.5</ior></glass>
+          </technique></extra>)"); }, Outcome::kError, "<ior>", "index of refraction must be in (0, 100]"},
+      {"nan_transmittance", [] { return effect_file(R"(<extra><technique profile="CGL"><refraction><transmittance>nan 1 1
+          </transmittance><ior>1.3</ior></refraction></technique></extra>)"); }, Outcome::kError, "<transmittance>",
+       "non-finite"},
+      {"zero_microfacet_alpha", [] { return effect_file(R"(<extra><technique profile="CGL"><microfacet><alpha>0</alpha>
+          <eta>1 1 1</eta><k>3 3 3</k></microfacet></technique></extra>)"); }, Outcome::kError, "<alpha>",
+       "alpha must be in (0, 10]"},
+      {"microfacet_without_k", [] { return effect_file(R"(<extra><technique profile="CGL"><microfacet><alpha>0.1</alpha>
+          <eta>1 1 1</eta></microfacet></technique></extra>)"); }, Outcome::kError, "<microfacet>", "has no <k>"},
       {"negative_emission", [] { return effect_file(R"(<extra><technique profile="CGL"><emission><radiance>-1 2 2
           </radiance></emission></technique></extra>)"); }, Outcome::kError, "<radiance>", "negative radiance"},
       {"nan_matrix", [] { return collada(kTriangleGeometry, "<node><matrix>1 0 0 0 0 nan 0 0 0 0 1 0 0 0 0 1"
@@ -224,8 +234,12 @@ std::vector<HostileFile> warning_cases() {
        Outcome::kWarning, "", "<light id=\"l\">: spot lights are not supported; skipped"},
       {"unknown_material_type", [] { return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
           <color>0.5 0.5 0.5 1</color></diffuse></lambert></technique></profile_COMMON><extra><technique
-          profile="CGL"><glass><ior>1.5</ior></glass></technique></extra>)"); }, Outcome::kWarning, "",
-       "<material id=\"m\">: CGL <glass> material is not supported; rendered as Lambertian with its diffuse colour"},
+          profile="CGL"><velvet><sheen>1</sheen></velvet></technique></extra>)"); }, Outcome::kWarning, "",
+       "<velvet>: CGL <velvet> material is not supported; rendered as Lambertian with its diffuse colour"},
+      {"rough_glass", [] { return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
+          <color>0.5 0.5 0.5 1</color></diffuse></lambert></technique></profile_COMMON><extra><technique
+          profile="CGL"><glass><roughness>0.2</roughness><ior>1.5</ior></glass></technique></extra>)"); },
+       Outcome::kWarning, "", "<roughness>: roughness is ignored: rendered as a smooth dielectric (as the course does)"},
       {"unknown_up_axis", [] { return collada(kTriangleGeometry, "<node><instance_geometry url=\"#tri\"/></node>",
           "W_UP"); }, Outcome::kWarning, "", "<up_axis>: unknown up axis \"W_UP\"; using Y_UP"},
       {"empty_scene", [] { return collada("", ""); }, Outcome::kWarning, "",

@@ -256,7 +256,7 @@ TEST(Lights, PointDirectionalAmbientAndSpot) {
   EXPECT_TRUE(spot_warned);
 }
 
-TEST(Materials, DiffuseColourEmissionAndUnsupportedCglExtras) {
+TEST(Materials, DiffuseColourEmissionAndCglMirror) {
   std::string libs = kTriangleGeometry + R"(<library_effects>
      <effect id="red"><profile_COMMON><technique><phong><diffuse><color>0.6 0.1 0.1 1</color></diffuse></phong>
        </technique></profile_COMMON></effect>
@@ -281,11 +281,41 @@ TEST(Materials, DiffuseColourEmissionAndUnsupportedCglExtras) {
   EXPECT_EQ(s.materials[s.triangle_material[0]].albedo, float3(0.6f, 0.1f, 0.1f));
   EXPECT_EQ(s.materials[s.triangle_material[1]].emission, float3(7, 8, 9));
   EXPECT_EQ(s.materials[s.triangle_material[1]].albedo, float3(0.0f));
-  EXPECT_EQ(s.materials[s.triangle_material[2]].albedo, float3(0.3f));
   EXPECT_EQ(s.materials[s.triangle_material[3]].albedo, float3(0.5f));  // unbound: 0.5 grey
-  int mirror_warnings = 0;
-  for (const std::string& w : r.warnings) mirror_warnings += w.find("mirror") != std::string::npos;
-  EXPECT_EQ(mirror_warnings, 1);
+  EXPECT_EQ(s.materials[s.triangle_material[2]].kind, MaterialKind::kMirror);
+  EXPECT_EQ(s.materials[s.triangle_material[2]].albedo, float3(1.0f));  // the mirror's reflectance
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(SharedScenes, NonDiffuseMaterialsAreReadAsTheFileStates) {
+  if (!test::shared_scenes_available()) GTEST_SKIP() << "../shared/scenes/cs184 absent";
+  auto kinds = [](const Scene& s, MaterialKind k) {
+    std::vector<const Material*> out;
+    for (const Material& m : s.materials)
+      if (m.kind == k) out.push_back(&m);
+    return out;
+  };
+  Scene gems = load_collada_file(test::shared_scene("CBgems.dae")).scene;
+  auto glass = kinds(gems, MaterialKind::kGlass);
+  ASSERT_EQ(glass.size(), 3u);
+  for (const Material* m : glass) {
+    EXPECT_EQ(m->ior, 1.45f);
+    EXPECT_EQ(m->albedo, float3(1.0f));
+  }
+  EXPECT_EQ(glass[0]->transmittance, float3(1.0f, 0.75f, 0.75f));
+  Scene coil = load_collada_file(test::shared_scene("CBcoil.dae")).scene;
+  ASSERT_EQ(kinds(coil, MaterialKind::kMirror).size(), 1u);
+  EXPECT_EQ(kinds(coil, MaterialKind::kMirror)[0]->albedo, float3(0.3f));
+  Scene alag = load_collada_file(test::shared_scene("CBspheres_microfacet_al_ag.dae")).scene;
+  auto metals = kinds(alag, MaterialKind::kMicrofacet);
+  ASSERT_EQ(metals.size(), 2u);
+  const Material* aluminium = metals[0]->alpha == 0.025f ? metals[0] : metals[1];
+  EXPECT_EQ(aluminium->alpha, 0.025f);
+  EXPECT_EQ(aluminium->eta, float3(1.3352f, 1.0109f, 0.68955f));
+  EXPECT_EQ(aluminium->k, float3(7.3398f, 6.6157f, 5.6471f));
+  Scene cu = load_collada_file(test::shared_scene("bunny_microfacet_cu.dae")).scene;
+  ASSERT_EQ(kinds(cu, MaterialKind::kMicrofacet).size(), 1u);
+  EXPECT_EQ(kinds(cu, MaterialKind::kMicrofacet)[0]->alpha, 0.1f);
 }
 
 TEST(Camera, ViewDirectionIsTheTransformedPointAndYFovComesFromTheAspect) {

@@ -22,7 +22,8 @@ LoadResult load_string(const std::string& xml, const std::string& label) { retur
 const std::vector<std::string>& shared_scene_names() {
   static const std::vector<std::string> names = {"CBspheres_lambertian.dae", "CBempty.dae", "CBgems.dae",
                                                  "CBcoil.dae", "CBbunny.dae", "bunny.dae", "cow.dae",
-                                                 "beetle.dae", "teapot.dae", "banana.dae"};
+                                                 "beetle.dae", "teapot.dae", "banana.dae",
+                                                 "CBspheres_microfacet_al_ag.dae", "bunny_microfacet_cu.dae"};
   return names;
 }
 

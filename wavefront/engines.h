@@ -28,6 +28,7 @@ struct Tracing {
 struct WavefrontOptions {
   size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
   bool packets = true;       ///< SIMD packets for camera rays and first-hit shadow rays
+  bool sort_by_material = true;  ///< shade from queues binned by material kind (false: every kernel over every ray)
 };
 
 /// Renders with the wavefront. If `stage_stats` is given, it receives the

@@ -18,6 +18,7 @@ void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue&
                    SurfaceBatch& s) {
   alignas(64) float f[10][kLanes];
   alignas(64) int32_t material[kLanes];
+  alignas(64) int32_t front[kLanes];
   Vec3T<vfloatK>* vecs[3] = {&s.p, &s.ng, &s.ns};
   for (int v = 0; v < 3; ++v) {
     vecs[v]->x.store_aligned(f[3 * v]);
@@ -26,6 +27,7 @@ void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue&
   }
   s.offset.store_aligned(f[9]);
   s.material.store_aligned(material);
+  xsimd::select(as_int_mask(s.front), vintK(1), vintK(0)).store_aligned(front);
   for (; lanes; lanes &= lanes - 1) {
     size_t lane = static_cast<size_t>(__builtin_ctz(lanes)), i = i0 + lane;
     SurfacePoint sp = surface_at(ctx.scene, rays.ray(i), Hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
@@ -34,11 +36,13 @@ void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue&
       for (int c = 0; c < 3; ++c) f[3 * v + c][lane] = (*src[v])[c];
     f[9][lane] = sp.offset;
     material[lane] = static_cast<int32_t>(sp.material);
+    front[lane] = sp.front ? 1 : 0;
   }
   for (int v = 0; v < 3; ++v)
     *vecs[v] = {vfloatK::load_aligned(f[3 * v]), vfloatK::load_aligned(f[3 * v + 1]), vfloatK::load_aligned(f[3 * v + 2])};
   s.offset = vfloatK::load_aligned(f[9]);
   s.material = vintK::load_aligned(material);
+  s.front = as_float_mask(vintK::load_aligned(front) != vintK(0));
 }
 
 }  // namespace
@@ -67,6 +71,7 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.ng = ts.ng;
   s.ns = ts.ns;
   s.offset = ts.offset;
+  s.front = ts.front;
   s.material = gather(tris.material, tri);
   if (uint32_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
   return s;

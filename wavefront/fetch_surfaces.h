@@ -18,6 +18,7 @@ struct SurfaceBatch {
   vintK material;
   vboolK hit;                ///< lane holds a surface (a valid ray that hit)
   vboolK valid;              ///< lane holds a ray of the queue
+  vboolK front;              ///< the ray arrived on the side the stored normal faces
 };
 
 /// Surfaces of rays [i0, i0 + K) of `rays` with their `hits`.

@@ -1,4 +1,5 @@
-// generate_camera_rays: identities in scalar, keys, jitter and directions in SIMD.
+// generate_camera_rays: identities in scalar, keys, jitter, lens samples and
+// directions in SIMD.
 #include "generate_camera_rays.h"
 
 #include <algorithm>
@@ -38,15 +39,21 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
     ps.get2d(dims::kCameraBounce, dims::kPixelJitter, jx, jy);
     vfloatK sx = (vfloatK::load_aligned(fx) + jx) / width;
     vfloatK sy = vfloatK(1.0f) - (vfloatK::load_aligned(fy) + jy) / height;
-    Vec3T<vfloatK> d = camera_ray_direction(cam, sx, sy);
+    Vec3T<vfloatK> d, o{vfloatK(cam.position.x), vfloatK(cam.position.y), vfloatK(cam.position.z)};
+    if (cam.thin_lens()) {
+      vfloatK u1, u2;
+      ps.get2d(dims::kCameraBounce, dims::kLens, u1, u2);
+      thin_lens_ray(cam, sx, sy, u1, u2, o, d);
+    } else {
+      d = camera_ray_direction(cam, sx, sy);
+    }
     const vfloatK one(1.0f), zero(0.0f);
     store_lanes(paths, i0,
                 PathLanes{.pixel = pixel, .sample = sample, .pixel_key = ps.pixel, .sample_key = ps.sample_k,
                           .beta_r = one, .beta_g = one, .beta_b = one, .radiance_r = zero, .radiance_g = zero,
                           .radiance_b = zero, .bsdf_pdf = zero});
     store_lanes(rays, i0,
-                RayLanes{.org_x = vfloatK(cam.position.x), .org_y = vfloatK(cam.position.y),
-                         .org_z = vfloatK(cam.position.z), .tmin = vfloatK(cam.near_clip), .dir_x = d.x, .dir_y = d.y,
+                RayLanes{.org_x = o.x, .org_y = o.y, .org_z = o.z, .tmin = vfloatK(cam.near_clip), .dir_x = d.x, .dir_y = d.y,
                          .dir_z = d.z, .tmax = vfloatK(cam.far_clip),
                          .path = xsimd::batch_cast<uint32_t>(lane_index()) + vuintK(static_cast<uint32_t>(i0))});
   }

@@ -11,6 +11,7 @@
 #include "kernels/camera_sample.h"
 #include "kernels/direct_light.h"
 #include "kernels/path_rules.h"
+#include "kernels/surface_bsdf.h"
 #include "kernels/render_job.h"
 #include "pass_driver.h"
 
@@ -28,20 +29,24 @@ class MegakernelPath {
     ++stats.camera_rays;
     if (!tracer_.intersect(ray, hit, stats.intersection_tests))
       return rs_.shading != ShadingMode::kNormals && rules_.counts_escape(0, sky_visible_)
-                 ? sky_radiance(*scene_.sky, ray.dir)
+                 ? sky_radiance(scene_, ray.dir)
                  : float3{};
     SurfacePoint sp = surface_at(scene_, ray, hit);
     if (rs_.shading == ShadingMode::kNormals) return normal_shading_color(sp);
     float3 L, beta{1.0f};
     if (rules_.counts(0)) L += emitted_radiance(scene_, sp, ray, rs_);
     for (uint32_t vertex = 1;; ++vertex) {
-      const float3 albedo = scene_.materials[sp.material].albedo;
-      const ShadingPointT<float> point = shading_point(sp, !is_black(albedo));
-      if (rules_.estimates_direct_light(vertex)) add_direct_light(point, ps, vertex, beta * albedo * kInvPi, L, stats);
+      const Material& material = scene_.materials[sp.material];
+      const SurfaceBsdf bsdf(material, sp, ray.dir, rs_);
+      const ShadingPointT<float> point = shading_point(sp, bsdf.samples_lights());
+      if (rules_.estimates_direct_light(vertex) && point.on) {
+        if (bsdf.lambertian()) add_direct_light(point, ps, vertex, beta * material.albedo * kInvPi, nullptr, L, stats);
+        else add_direct_light(point, ps, vertex, beta, &bsdf, L, stats);
+      }
       if (!rules_.traces_bsdf_ray(vertex)) break;
-      BsdfSampleT<float> bs = sample_lambertian(point, ps, vertex);
+      const BsdfScatter bs = bsdf.sample(point, ps, vertex);
       if (!bs.ok) break;
-      beta = beta * albedo;
+      beta = beta * bs.weight;
       if (PathRules::roulette_applies(vertex)) {
         float p = continuation_probability(rs_, max_component(beta));
         if (ps.get1d(vertex, dims::kRoulette) >= p) break;
@@ -50,22 +55,27 @@ class MegakernelPath {
       ray = Ray{to_float3(offset_origin(point.p, point.ng, point.offset, bs.wi)), 0.0f, to_float3(bs.wi), kInfinity};
       ++stats.bounce_rays;
       bool found = tracer_.intersect(ray, hit, stats.intersection_tests);
-      if (rules_.bsdf_competes(vertex)) L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
-      if (!found) break;
-      sp = surface_at(scene_, ray, hit);
-      if (emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
-        L += beta * emitted_radiance(scene_, sp, ray, rs_);
-      if (!rules_.continues(vertex)) break;  // the final bounce only collects emission
+      if (found) sp = surface_at(scene_, ray, hit);
+      if (bs.delta) {
+        if (rules_.counts(vertex)) L += beta * light_found_after_delta(scene_, rs_, ray, found ? &sp : nullptr);
+      } else {
+        if (rules_.bsdf_competes(vertex))
+          L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
+        if (found && emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
+          L += beta * emitted_radiance(scene_, sp, ray, rs_);
+      }
+      if (!found || !rules_.continues(vertex)) break;  // the final bounce only collects emission
     }
     return L;
   }
 
  private:
   /// Adds beta_f x the direct light of vertex `vertex` to L, tracing each
-  /// sample's shadow (or probe) ray at once.
+  /// sample's shadow (or probe) ray at once; each sample is also multiplied
+  /// by the rough conductor's f where `glossy` is given.
   void add_direct_light(const ShadingPointT<float>& point, const PathSampler& ps, uint32_t vertex, float3 beta_f,
-                        float3& L, RenderStats& stats) const {
-    if (!point.on) return;
+                        const SurfaceBsdf* glossy, float3& L, RenderStats& stats) const {
+    auto f = [&](const Vec3T<float>& wi) { return glossy ? to_float3(glossy->eval(wi).f) : float3(1.0f); };
     if (rs_.direct_by_hitting()) {
       sample_hemisphere_rays(scene_, rs_, point, ps, vertex,
                              [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float weight) {
@@ -77,19 +87,22 @@ class MegakernelPath {
                                if (tracer_.intersect(ray, hit, stats.intersection_tests))
                                  incoming = emitted_radiance(scene_, surface_at(scene_, ray, hit), ray, rs_);
                                else if (sky_visible_)
-                                 incoming = sky_radiance(*scene_.sky, ray.dir);
-                               L += beta_f * incoming * weight;
+                                 incoming = sky_radiance(scene_, ray.dir);
+                               L += beta_f * incoming * weight * f(wi);
                              });
       return;
     }
-    sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
-                         [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax,
-                             const Vec3T<float>& weight) {
-                           if (!ok) return;
-                           ++stats.shadow_rays;
-                           if (!tracer_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
-                             L += beta_f * to_float3(weight);
-                         });
+    auto shadow = [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax, const Vec3T<float>& weight) {
+      if (!ok) return;
+      ++stats.shadow_rays;
+      if (!tracer_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
+        L += beta_f * to_float3(weight) * f(wi);
+    };
+    if (glossy)
+      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
+                           [&](const Vec3T<float>& wi, float) { return glossy->eval(wi).pdf; }, shadow);
+    else
+      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex), LambertianPdf{}, shadow);
   }
 
   const Scene& scene_;

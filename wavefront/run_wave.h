@@ -45,7 +45,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     b.continuations.clear();
     {
       StageTimer t(stats, Stage::kShade);
-      shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, b.continuations});
+      shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, b.continuations}, b.by_material);
     }
     {
       StageTimer t(stats, depth == 0 ? Stage::kShadowFirstHit : Stage::kShadowLater);

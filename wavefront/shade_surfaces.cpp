@@ -1,147 +1,40 @@
-// shade_surfaces: per K-lane chunk, fetch surfaces, then emission (and light
-// found by the previous BSDF sample), direct light and BSDF sampling as
-// separate steps, by the path rules and per-sample math every engine shares
-// (kernels/path_rules.h, kernels/direct_light.h) taken K lanes wide.
+// shade_surfaces: the diffuse kernel over the whole queue when every surface
+// is diffuse; otherwise the rays binned by material kind, then one kernel
+// per kind present (or, unsorted, every kernel over every ray: what sorting
+// buys is measured against that).
 #include "shade_surfaces.h"
 
-#include "fetch_surfaces.h"
-#include "kernels/direct_light.h"
-#include "kernels/path_sampler.h"
 #include "kernels/shading.h"
 #include "kernels/surface.h"
-#include "lane_output.h"
+#include "shade_kernels.h"
 
 namespace pt::wf {
-namespace {
-
-using V3 = Vec3T<vfloatK>;
-using SamplerK = PathSamplerT<vuintK, vfloatK>;
-
-/// What the steps of one chunk share.
-struct Chunk {
-  ShadingPointT<vfloatK> point;  ///< on: lanes whose surface reflects (non-black albedo)
-  vuintK path;
-  SamplerK ps;
-  V3 beta, albedo;
-  uint32_t vertex;
-};
-
-vintK as_index(vuintK u) { return xsimd::bitwise_cast<vintK>(u); }
-
-V3 gather3(const AlignedVector<float>& r, const AlignedVector<float>& g, const AlignedVector<float>& b, vintK i) {
-  return {gather(r.data(), i), gather(g.data(), i), gather(b.data(), i)};
-}
-
-V3 times(const V3& a, const V3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-
-/// Emission the rays see, and under MIS the light their BSDF sample found
-/// (scalar: only lanes that hit emitters, or escaped where the sky counts).
-void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
-                  uint32_t lanes, PathState& paths) {
-  const RenderSettings& rs = ctx.settings;
-  const bool mis = depth > 0 && ctx.rules.bsdf_competes(depth);
-  for_each_lane(lanes, [&](size_t lane) {
-    size_t i = i0 + lane;
-    uint32_t path = rays.path[i];
-    Ray ray = rays.ray(i);
-    Hit hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]};
-    float3 beta{paths.beta_r[path], paths.beta_g[path], paths.beta_b[path]};
-    float3 L;
-    if (!hit.valid()) {
-      if (depth == 0 && ctx.rules.counts_escape(0, ctx.sky_visible)) L = sky_radiance(*ctx.scene.sky, ray.dir);
-      else if (mis) L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, nullptr, paths.bsdf_pdf[path]);
-    } else {
-      SurfacePoint sp = surface_at(ctx.scene, ray, hit);
-      if (depth == 0) {
-        if (ctx.rules.counts(0)) L = emitted_radiance(ctx.scene, sp, ray, rs);
-      } else if (emission_found_by_bounce(ctx.scene, sp, rs) && ctx.rules.counts_emission_found(depth)) {
-        L = beta * emitted_radiance(ctx.scene, sp, ray, rs);
-      } else if (mis) {
-        L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, &hit, paths.bsdf_pdf[path]);
-      }
-    }
-    if (!is_black(L)) paths.add_radiance(path, L.x, L.y, L.z);
-  });
-}
-
-V3 throughput_times_bsdf(const Chunk& c) {
-  const vfloatK inv_pi(kInvPi);
-  return {c.beta.x * c.albedo.x * inv_pi, c.beta.y * c.albedo.y * inv_pi, c.beta.z * c.albedo.z * inv_pi};
-}
-
-/// Direct light: shadow rays of the light samples (each with the radiance it
-/// brings, times the path's throughput and BSDF), or the probe rays of the
-/// hit-based estimators.
-void sample_direct_light(const WaveContext& ctx, const Chunk& c, ShadeOutputs& out) {
-  const V3 beta_f = throughput_times_bsdf(c);
-  if (ctx.settings.direct_by_hitting()) {
-    sample_hemisphere_rays(ctx.scene, ctx.settings, c.point, c.ps, c.vertex,
-                           [&](vboolK ok, const V3& org, const V3& wi, vfloatK weight) {
-                             push_shadow_lanes(lane_mask(ok), out.hemisphere, org, wi, vfloatK(kInfinity), c.path,
-                                               {beta_f.x * weight, beta_f.y * weight, beta_f.z * weight});
-                           });
-    return;
-  }
-  sample_light_sources(ctx.scene, ctx.settings, c.point, c.ps, c.vertex, ctx.rules.bsdf_competes(c.vertex),
-                       [&](vboolK ok, const V3& org, const V3& wi, vfloatK tmax, const V3& weight) {
-                         push_shadow_lanes(lane_mask(ok), out.shadows, org, wi, tmax, c.path, times(beta_f, weight));
-                       });
-}
-
-/// Cosine-weighted continuation; throughput *= albedo (f cos / pdf).
-void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
-  BsdfSampleT<vfloatK> bs = sample_lambertian(c.point, c.ps, c.vertex);
-  uint32_t mask = lane_mask(bs.ok);
-  if (!mask) return;
-  LaneFloats br(c.beta.x * c.albedo.x), bg(c.beta.y * c.albedo.y), bb(c.beta.z * c.albedo.z);
-  LaneFloats pdf(bs.pdf);
-  LaneUints path(c.path);
-  for_each_lane(mask, [&](size_t l) {
-    paths.beta_r[path[l]] = br[l];
-    paths.beta_g[path[l]] = bg[l];
-    paths.beta_b[path[l]] = bb[l];
-    paths.bsdf_pdf[path[l]] = pdf[l];
-  });
-  push_ray_lanes(mask, q, offset_origin(c.point.p, c.point.ng, c.point.offset, bs.wi), bs.wi, c.path);
-}
-
-}  // namespace
 
 void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits,
-                    PathState& paths, ShadeOutputs out) {
-  const RenderSettings& rs = ctx.settings;
-  const uint32_t vertex = depth + 1;
-  const bool direct = ctx.rules.estimates_direct_light(vertex);
-  const bool samples_bsdf = ctx.rules.traces_bsdf_ray(vertex);
-  const bool escapes_count = depth == 0 || ctx.rules.counts_escape(depth, ctx.sky_visible);
-  const size_t n = rays.size;
-  out.shadows.reserve(n * ctx.shadow_rays_per_vertex);
-  out.hemisphere.reserve(rs.direct_by_hitting() ? n * ctx.shadow_rays_per_vertex : 0);
-  out.continuations.reserve(n);
-  const MaterialArrays& mats = ctx.materials;
-
-  if (n > 0) prefetch_surfaces(ctx, hits, 0, false);
-  for (size_t i0 = 0; i0 < n; i0 += kLanes) {
-    prefetch_surfaces(ctx, hits, i0 + 2 * kLanes, false);  // indices two chunks ahead,
-    prefetch_surfaces(ctx, hits, i0 + kLanes, true);       // vertices one chunk ahead
-    SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
-    vboolK emits = s.hit && as_float_mask(gather(mats.emits.data(), s.material) != vintK(0));
-    uint32_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);
-    if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
-    if (!direct && !samples_bsdf) continue;
-
-    vintK path = xsimd::select(as_int_mask(s.valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));
-    V3 albedo = gather3(mats.albedo_r, mats.albedo_g, mats.albedo_b, s.material);
-    const vfloatK zero(0.0f);
-    vboolK reflects = s.hit && (albedo.x != zero || albedo.y != zero || albedo.z != zero);
-    Chunk c{{s.p, s.ng, s.ns, s.offset, reflects},
-            xsimd::bitwise_cast<vuintK>(path),
-            SamplerK(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path)),
-            gather3(paths.beta_r, paths.beta_g, paths.beta_b, path),
-            albedo,
-            vertex};
-    if (direct) sample_direct_light(ctx, c, out);
-    if (samples_bsdf) sample_bsdf(c, paths, out.continuations);
+                    PathState& paths, ShadeOutputs out, MaterialQueues& by_material) {
+  if (ctx.diffuse_only()) {
+    shade_diffuse(ctx, depth, rays, hits, paths, out);
+    return;
+  }
+  if (!ctx.sort_by_material) {  // every kernel over every ray, on the lanes of its kind
+    shade_diffuse(ctx, depth, rays, hits, paths, out);
+    for (uint32_t k = 1; k < kMaterialKindCount; ++k) {
+      const MaterialKind kind = static_cast<MaterialKind>(k);
+      if (!(ctx.material_kinds & (1u << k))) continue;
+      if (kind == MaterialKind::kMicrofacet) shade_microfacet(ctx, depth, rays, hits, paths, out);
+      else shade_delta(ctx, depth, kind, rays, hits, paths, out);
+    }
+    return;
+  }
+  bin_by_material(ctx, rays, hits, by_material);
+  for (uint32_t k = 0; k < kMaterialKindCount; ++k) {
+    const RayQueue& q = by_material.rays[k];
+    const HitQueue& h = by_material.hits[k];
+    if (q.size == 0) continue;
+    const MaterialKind kind = static_cast<MaterialKind>(k);
+    if (kind == MaterialKind::kDiffuse) shade_diffuse(ctx, depth, q, h, paths, out);
+    else if (kind == MaterialKind::kMicrofacet) shade_microfacet(ctx, depth, q, h, paths, out);
+    else shade_delta(ctx, depth, kind, q, h, paths, out);
   }
 }
 

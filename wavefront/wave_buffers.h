@@ -1,11 +1,13 @@
 // The queues one worker thread reuses from wave to wave: path state, the
 // ray queues of the current and next depth (double-buffered by parity),
-// hits, shadow rays, hemisphere rays and continuation candidates. Listed once
+// hits, shadow rays, hemisphere rays, continuation candidates and the queues
+// by material kind. Listed once
 // (PT_WAVE_BUFFERS) for the members and for their bytes.
 #pragma once
 
 #include <cstddef>
 
+#include "material_queues.h"
 #include "streams.h"
 
 namespace pt::wf {
@@ -13,7 +15,7 @@ namespace pt::wf {
 /// X(type, name, extent): a member `type name extent`.
 #define PT_WAVE_BUFFERS(X)                                                              \
   X(PathState, paths, ) X(RayQueue, rays, [2]) X(HitQueue, hits, ) X(ShadowQueue, shadows, ) \
-  X(ShadowQueue, hemisphere, ) X(RayQueue, continuations, )
+  X(ShadowQueue, hemisphere, ) X(RayQueue, continuations, ) X(MaterialQueues, by_material, )
 
 template <class Stream> inline size_t stream_bytes(const Stream& s) { return s.bytes(); }
 template <class Stream, size_t N> inline size_t stream_bytes(const Stream (&s)[N]) {

@@ -6,14 +6,28 @@
 namespace pt::wf {
 
 MaterialArrays::MaterialArrays(const Scene& s) {
+  const bool other_kinds = s.material_kinds() > 1u;
   for (const Material& m : s.materials) {
     albedo_r.push_back(m.albedo.x);
     albedo_g.push_back(m.albedo.y);
     albedo_b.push_back(m.albedo.z);
     emits.push_back(m.is_emitter() ? 1 : 0);
+    kind.push_back(static_cast<int32_t>(m.kind));
+    if (!other_kinds) continue;
+    ior.push_back(m.ior);
+    alpha.push_back(m.alpha);
+    trans_r.push_back(m.transmittance.x);
+    trans_g.push_back(m.transmittance.y);
+    trans_b.push_back(m.transmittance.z);
+    eta_r.push_back(m.eta.x);
+    eta_g.push_back(m.eta.y);
+    eta_b.push_back(m.eta.z);
+    k_r.push_back(m.k.x);
+    k_g.push_back(m.k.y);
+    k_b.push_back(m.k.z);
   }
   if (s.materials.empty()) {  // keep gathers in bounds for material 0
-    albedo_r.push_back(0); albedo_g.push_back(0); albedo_b.push_back(0); emits.push_back(0);
+    albedo_r.push_back(0); albedo_g.push_back(0); albedo_b.push_back(0); emits.push_back(0); kind.push_back(0);
   }
 }
 
@@ -34,7 +48,10 @@ WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& 
       settings(rs),
       materials(s),
       rules(s, rs),
-      sky_visible(s.sky && !rs.cs184_invisible_sky) {
+      sky_visible(s.sky && !rs.cs184_invisible_sky),
+      material_kinds(s.material_kinds()),
+      has_delta((material_kinds & ((1u << uint32_t(MaterialKind::kMirror)) | (1u << uint32_t(MaterialKind::kGlass)) |
+                                   (1u << uint32_t(MaterialKind::kRefraction)))) != 0) {
   if (rs.direct_by_hitting()) {
     shadow_rays_per_vertex = hemisphere_sample_count(s, rs);
   } else {

@@ -14,10 +14,14 @@
 
 namespace pt::wf {
 
-/// Materials as SoA for gathers; one entry per scene material.
+/// Materials as SoA for gathers; one entry per scene material. The
+/// parameters of the non-diffuse kinds (glass, microfacet, ...) are filled
+/// only when the scene has a material of such a kind.
 struct MaterialArrays {
   AlignedVector<float> albedo_r, albedo_g, albedo_b;
   AlignedVector<int32_t> emits;  ///< 1 if the material has emission
+  AlignedVector<int32_t> kind;   ///< MaterialKind
+  AlignedVector<float> ior, alpha, trans_r, trans_g, trans_b, eta_r, eta_g, eta_b, k_r, k_g, k_b;
 
   explicit MaterialArrays(const Scene& s);
 };
@@ -42,6 +46,12 @@ struct WaveContext {
   PathRules rules;
   uint32_t shadow_rays_per_vertex;  ///< upper bound, for queue sizes
   bool sky_visible;                 ///< escaped rays see the sky
+  uint32_t material_kinds;          ///< Scene::material_kinds(): bit per kind present
+  bool has_delta;                   ///< some material is a mirror, glass or refraction
+  bool sort_by_material = true;     ///< WavefrontOptions::sort_by_material
+
+  /// Whether every surface is diffuse (or an emitter): one shading kernel, no queues by material.
+  bool diffuse_only() const { return material_kinds <= 1u; }
 
   WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs);
 };

@@ -21,6 +21,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
                               StageStats* stage_stats = nullptr) {
   auto start = std::chrono::steady_clock::now();
   WaveContext ctx(scene, camera, rs);
+  ctx.sort_by_material = options.sort_by_material;
   tbb::enumerable_thread_specific<WaveBuffers> buffers;
   tbb::enumerable_thread_specific<StageStats> stages;
   Accumulation acc = initial_accumulation(rs, control);

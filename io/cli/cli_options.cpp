@@ -30,7 +30,7 @@ constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};  
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
-  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa;
+  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance;
   std::vector<std::string> resolution, adaptive, region;
   bool hemisphere = false, normals = false, cs184 = false, list_isa = false;
 };
@@ -91,6 +91,12 @@ void Converter::convert(const RawValues& raw) {
   number("--rr", "continuation probability", raw.rr, "a number in (0, 1]",
          [](double v) { return v > 0.0 && v <= 1.0; }, s.rr_continue);
   integer("--seed", "seed", raw.seed, 0, std::numeric_limits<uint32_t>::max(), s.seed);
+  auto finite_at_least_zero = [](double v) { return v >= 0.0 && v <= 1e30; };
+  auto positive = [](double v) { return v > 0.0 && v <= 1e30; };
+  if (app_.count("-b") > 0) o_.lens_radius.emplace();
+  number("-b", "lens radius", raw.lens_radius, "a number >= 0 (0: pinhole)", finite_at_least_zero, *o_.lens_radius);
+  if (app_.count("-d") > 0) o_.focal_distance.emplace();
+  number("-d", "focal distance", raw.focal_distance, "a positive number", positive, *o_.focal_distance);
   integer("--leaf-size", "leaf size", raw.leaf_size, 1, 64, o_.max_leaf_size);
   number("--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
          [](double v) { return v > 0.0; }, o_.checkpoint_every);
@@ -214,6 +220,12 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("NUMBER");
   app.add_flag("-H,--hemisphere", raw.hemisphere, "Uniform hemisphere sampling for direct light");
   path("-c,--camera", o.camera_file, "Camera settings file");
+  app.add_option("-b,--lens-radius", raw.lens_radius, "Thin lens: aperture radius in scene units (0: pinhole); 0")
+      ->type_name("NUMBER");
+  app.add_option("-d,--focal-distance", raw.focal_distance,
+                 "Thin lens: distance to the plane in focus; the scene's centre")
+      ->type_name("NUMBER");
+  path("-e,--envmap", o.environment_map, "Environment light: a lat-long OpenEXR map replacing the sky");
   app.add_option("-p,--region", raw.region, "Render only the region X Y DX DY (top-left origin)")
       ->expected(4)
       ->type_name("INT");
@@ -310,6 +322,7 @@ ParseResult parse_command_line(int argc, char** argv) {
     s.cs184_light_quirk = true;
     s.cs184_invisible_sky = true;
     s.cs184_light_pdf = true;
+    s.cs184_materials = true;
     o.cs184_framing = true;
     o.cs184_png = true;
   }

@@ -19,6 +19,9 @@ struct Options {
   std::string scene_path;            ///< empty: the built-in default scene
   std::string output_path;           ///< -f; empty: <scene name>.png
   std::string camera_file;           ///< -c
+  std::string environment_map;       ///< -e: lat-long EXR replacing the sky
+  std::optional<float> lens_radius;  ///< -b: thin-lens aperture radius
+  std::optional<float> focal_distance; ///< -d: thin-lens focal distance
   std::string write_camera_file;     ///< --write-camera
   std::string checkpoint_file;       ///< --checkpoint: save / resume accumulated state
   double checkpoint_every = 60.0;    ///< seconds between checkpoint saves

@@ -15,6 +15,7 @@
 #include "io/camera_setup.h"
 #include "io/checkpoint.h"
 #include "io/collada_loader.h"
+#include "io/exr_image.h"
 #include "io/image_output.h"
 #include "io/scene_error.h"
 #include "convergence_run.h"
@@ -107,9 +108,28 @@ void print_memory(const cli::Options& o, const Scene& scene, const RenderOutput&
   std::printf("%s", cli::format_memory_report(report).c_str());
 }
 
+/// The render's camera: the scene's (or the -c file's), with -b / -d's thin
+/// lens. -b without -d (or a file's focal distance) focuses on the point the
+/// camera looks at.
+Camera render_camera(const cli::Options& o, const Scene& scene) {
+  const RenderSettings& rs = o.settings;
+  Camera c = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
+                                   : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
+  if (o.lens_radius) {
+    if (!c.thin_lens() && !o.focal_distance) c.focal_distance = length(c.position - scene.bounds.center());
+    c.lens_radius = *o.lens_radius;
+  }
+  if (o.focal_distance) c.focal_distance = *o.focal_distance;
+  return c;
+}
+
 int run(const cli::Options& o) {
   std::filesystem::path scene_path = o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE) : std::filesystem::path(o.scene_path);
   LoadResult loaded = load_collada_file(scene_path);
+  if (!o.environment_map.empty()) {
+    RgbImage map = read_exr(o.environment_map);
+    set_environment(loaded.scene, std::make_shared<EnvironmentMap>(map.width, map.height, std::move(map.texels)));
+  }
   for (const std::string& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!o.quiet) std::printf("%s\n", scene_summary(loaded).c_str());
   const Scene& scene = loaded.scene;
@@ -122,7 +142,7 @@ int run(const cli::Options& o) {
 
   if (!o.convergence_csv.empty()) {
     check_writable(o.convergence_csv);
-    Camera camera = resolve_camera(scene, rs.width, rs.height, o.cs184_framing);
+    Camera camera = render_camera(o, scene);
     cli::EngineRunner engine(o, scene, camera);
     install_stop_handlers();
     return cli::run_convergence(o, engine, g_cancel);
@@ -133,8 +153,7 @@ int run(const cli::Options& o) {
   if (!o.write_camera_file.empty()) check_writable(o.write_camera_file);
   if (!o.variance_file.empty()) check_writable(o.variance_file);
 
-  Camera camera = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
-                                        : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
+  Camera camera = render_camera(o, scene);
 
   RenderControl control;
   control.cancel = &g_cancel;

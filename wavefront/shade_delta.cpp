@@ -1,0 +1,58 @@
+// shade_delta: mirrors, glass and refraction, one kind per call, so every
+// lane takes the same lobe code. No light samples (a delta lobe cannot be
+// hit by one); the continuation is marked delta (bsdf_pdf < 0) so that the
+// light it finds counts at full weight (shade_diffuse's add_emission).
+#include "kernels/bsdf.h"
+#include "kernels/sample_dimensions.h"
+#include "kernels/surface.h"
+#include "lane_output.h"
+#include "shade_kernels.h"
+
+namespace pt::wf {
+
+void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays,
+                 const HitQueue& hits, PathState& paths, ShadeOutputs out) {
+  const uint32_t vertex = depth + 1;
+  if (!ctx.rules.traces_bsdf_ray(vertex)) return;
+  const RenderSettings& rs = ctx.settings;
+  const MaterialArrays& mats = ctx.materials;
+  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
+    SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
+    s.hit = hits_of_kind(ctx, s, kind);
+    if (!lane_mask(s.hit)) continue;
+    vintK path = lane_paths(rays, i0, s.valid);
+    V3 wo{-vfloatK::load_aligned(&rays.dir_x[i0]), -vfloatK::load_aligned(&rays.dir_y[i0]),
+          -vfloatK::load_aligned(&rays.dir_z[i0])};
+    V3 wo_local = local_of(wo, s.ns);
+    V3 reflectance = gather3(mats.albedo_r, mats.albedo_g, mats.albedo_b, s.material);
+    DeltaScatterT<vfloatK> d;
+    if (kind == MaterialKind::kMirror) {
+      d = {mirror_direction(wo_local), reflectance, wo_local.z > vfloatK(0.0f)};
+    } else {
+      SamplerK ps(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path));
+      vfloatK u1, u2;
+      ps.get2d(vertex, dims::kBsdf, u1, u2);
+      d = scatter_dielectric(wo_local, s.front, gather(mats.ior.data(), s.material), reflectance,
+                             gather3(mats.trans_r, mats.trans_g, mats.trans_b, s.material), u1,
+                             kind == MaterialKind::kGlass, rs.cs184_materials);
+    }
+    V3 wi = to_world(s.ns.x, s.ns.y, s.ns.z, d.wi.x, d.wi.y, d.wi.z);
+    // Reflection must leave above, refraction below the geometric surface.
+    vboolK above = dot3(wi, s.ng) > vfloatK(0.0f), up = d.wi.z > vfloatK(0.0f);
+    uint32_t mask = lane_mask(s.hit && d.ok && ((above && up) || !(above || up)));
+    if (!mask) continue;
+    V3 beta = times(gather3(paths.beta_r, paths.beta_g, paths.beta_b, path), d.weight);
+    LaneFloats br(beta.x), bg(beta.y), bb(beta.z);
+    LaneUints path_of(xsimd::bitwise_cast<vuintK>(path));
+    for_each_lane(mask, [&](size_t l) {
+      paths.beta_r[path_of[l]] = br[l];
+      paths.beta_g[path_of[l]] = bg[l];
+      paths.beta_b[path_of[l]] = bb[l];
+      paths.bsdf_pdf[path_of[l]] = -1.0f;  // delta
+    });
+    push_ray_lanes(mask, out.continuations, offset_origin(s.p, s.ng, s.offset, wi), wi,
+                   xsimd::bitwise_cast<vuintK>(path));
+  }
+}
+
+}  // namespace pt::wf
