@@ -122,13 +122,18 @@ inline DeltaScatterT<T> scatter_dielectric(const Vec3T<T>& wo, lane::mask_t<T> f
 
 // --------------------------------------------------- Beckmann microfacets
 
-/// Beckmann normal distribution D(h) at cos(theta_h) = c > 0:
-/// exp(-tan^2 / alpha^2) / (pi alpha^2 cos^4).
-template <class T> inline T beckmann_d(T c, T alpha) {
+/// Beckmann normal distribution D(h) at cos(theta_h) = c > 0 and
+/// tan^2(theta_h) = tan2: exp(-tan^2 / alpha^2) / (pi alpha^2 cos^4). tan2 is
+/// passed in, not derived from c, because 1 - c^2 loses all precision for
+/// the near-normal microfacets of a small alpha (error amplified 1/alpha^2).
+template <class T> inline T beckmann_d(T c, T tan2, T alpha) {
   T c2 = c * c, a2 = alpha * alpha;
-  T tan2 = (T(1.0f) - c2) / c2;
   return lane::select(c > T(0.0f), lane::exp(lane::neg(tan2 / a2)) / (T(kPi) * a2 * c2 * c2), T(0.0f));
 }
+
+/// tan^2 of a unit vector's angle to +z, from its components (exact for
+/// vectors near +z, unlike (1 - z^2) / z^2).
+template <class T> inline T tan2_of(const Vec3T<T>& v) { return (v.x * v.x + v.y * v.y) / (v.z * v.z); }
 
 /// Smith's Lambda for the Beckmann distribution at cos(theta) = c > 0, by
 /// the rational approximation of Walter et al. (2007) (relative error below
@@ -150,7 +155,7 @@ template <class T> inline T smith_g(T cos_o, T cos_i, T alpha) {
 template <class T> inline Vec3T<T> sample_beckmann_normal(T u1, T u2, T alpha) {
   T tan2 = lane::neg(alpha * alpha * lane::log(T(1.0f) - u1));
   T c = T(1.0f) / lane::sqrt(T(1.0f) + tan2);
-  T s = lane::sqrt(lane::max(T(0.0f), T(1.0f) - c * c));
+  T s = c * lane::sqrt(tan2);  // sin = cos tan: keeps the tiny angles of a small alpha
   T sp, cp;
   lane::sincos_2pi(u2, sp, cp);
   return {s * cp, s * sp, c};
@@ -189,7 +194,7 @@ inline MicrofacetEvalT<T> eval_microfacet(const ConductorT<T>& m, const Vec3T<T>
   h = {h.x * inv, h.y * inv, h.z * inv};
   T o_h = wo.x * h.x + wo.y * h.y + wo.z * h.z;
   lane::mask_t<T> ok = wo.z > T(0.0f) && wi.z > T(0.0f) && len > T(0.0f) && o_h > T(0.0f);
-  T d = beckmann_d(h.z, m.alpha);
+  T d = beckmann_d(h.z, tan2_of(h), m.alpha);
   T scale = d * smith_g(wo.z, wi.z, m.alpha) / (T(4.0f) * wo.z * wi.z);
   Vec3T<T> fr = conductor_fresnel(m, course ? wi.z : o_h, course);
   MicrofacetEvalT<T> e;
@@ -216,7 +221,7 @@ inline MicrofacetSampleT<T> sample_microfacet(const ConductorT<T>& m, const Vec3
   MicrofacetSampleT<T> s;
   s.wi = {T(2.0f) * o_h * h.x - wo.x, T(2.0f) * o_h * h.y - wo.y, T(2.0f) * o_h * h.z - wo.z};
   s.ok = o_h > T(0.0f) && s.wi.z > T(0.0f) && wo.z > T(0.0f);
-  s.pdf = beckmann_d(h.z, m.alpha) * h.z / (T(4.0f) * o_h);
+  s.pdf = beckmann_d(h.z, tan2_of(h), m.alpha) * h.z / (T(4.0f) * o_h);
   T scale = smith_g(wo.z, s.wi.z, m.alpha) * o_h / (wo.z * h.z);
   Vec3T<T> fr = conductor_fresnel(m, course ? s.wi.z : o_h, course);
   s.weight = {fr.x * scale, fr.y * scale, fr.z * scale};
