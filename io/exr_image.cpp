@@ -68,9 +68,9 @@ void check_texels(const std::string& path, const RgbImage& img) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const float3& t = img.texels[size_t(y) * img.width + x];
+      if (is_finite(t) && t.x >= 0 && t.y >= 0 && t.z >= 0) continue;
       const std::string where = path + ": texel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
-      if (!is_finite(t)) throw InputError(where + " is not finite");
-      if (t.x < 0 || t.y < 0 || t.z < 0) throw InputError(where + " is negative");
+      throw InputError(where + (is_finite(t) ? " is negative" : " is not finite"));
     }
 }
 

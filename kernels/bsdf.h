@@ -111,11 +111,11 @@ inline DeltaScatterT<T> scatter_dielectric(const Vec3T<T>& wo, lane::mask_t<T> f
     s.weight = {lane::select(reflect, reflectance.x, transmittance.x * scale),
                 lane::select(reflect, reflectance.y, transmittance.y * scale),
                 lane::select(reflect, reflectance.z, transmittance.z * scale)};
-    s.ok = reflect || !tir;
+    s.ok = (reflect || !tir) && wo.z > T(0.0f);
   } else {
     s.wi = refracted;
     s.weight = {transmittance.x * scale, transmittance.y * scale, transmittance.z * scale};
-    s.ok = !tir;
+    s.ok = !tir && wo.z > T(0.0f);
   }
   return s;
 }

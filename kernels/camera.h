@@ -46,11 +46,13 @@ inline void thin_lens_ray(const Camera& c, T sx, T sy, T u1, T u2, Vec3T<T>& org
   T y = (T(2.0f) * sy - T(1.0f)) * T(c.tan_half_vfov);
   T r = T(c.lens_radius) * lane::sqrt(u1), s, co;
   lane::sincos_2pi(u2, s, co);
-  T lx = r * co, ly = r * s, f(c.focal_distance);
-  T cx = x * f - lx, cy = y * f - ly;  // camera space: from the lens point to the point in focus (z = -f)
-  T dx = T(c.screen_x.x) * cx + T(c.screen_y.x) * cy - T(c.to_camera.x) * f;
-  T dy = T(c.screen_x.y) * cx + T(c.screen_y.y) * cy - T(c.to_camera.y) * f;
-  T dz = T(c.screen_x.z) * cx + T(c.screen_y.z) * cy - T(c.to_camera.z) * f;
+  T lx = r * co, ly = r * s, inv_f(1.0f / c.focal_distance);
+  // Camera space, divided by f: from the lens point to the point in focus
+  // (x f, y f, -f), so that no focal distance overflows.
+  T cx = x - lx * inv_f, cy = y - ly * inv_f;
+  T dx = T(c.screen_x.x) * cx + T(c.screen_y.x) * cy - T(c.to_camera.x);
+  T dy = T(c.screen_x.y) * cx + T(c.screen_y.y) * cy - T(c.to_camera.y);
+  T dz = T(c.screen_x.z) * cx + T(c.screen_y.z) * cy - T(c.to_camera.z);
   T inv = T(1.0f) / lane::sqrt(dx * dx + dy * dy + dz * dz);
   dir = {dx * inv, dy * inv, dz * inv};
   org = {T(c.position.x) + T(c.screen_x.x) * lx + T(c.screen_y.x) * ly,

@@ -34,6 +34,10 @@ class PathRules {
   bool traces_bsdf_ray(uint32_t v) const {
     return continues(v) || (static_cast<int>(v) == rs_.max_depth && final_bounce_);
   }
+  /// A delta lobe (mirror, glass, refraction) at vertex v sends its ray on
+  /// up to the last vertex (v == max depth) too: it takes no light sample,
+  /// so the light it reflects after v bounces is found only by that ray.
+  bool traces_delta_ray(uint32_t v) const { return static_cast<int>(v) <= rs_.max_depth; }
   /// Under MIS, bounce ray v competes with vertex v's light samples: both are
   /// weighted, and the light that ray finds is added (not for the final,
   /// emission-only bounce, and not where vertex v's light does not count).

@@ -14,6 +14,13 @@
 
 namespace pt {
 
+/// Whether rays that escape the scene see its sky: always an environment map
+/// (the course renderer shows it), the file's sky unless --cs184-compat hides
+/// it as the course does.
+inline bool sky_is_visible(const Scene& s, const RenderSettings& rs) {
+  return s.sky && (s.environment || !rs.cs184_invisible_sky);
+}
+
 /// Shadow rays stop this fraction short of the light sample, so the light's
 /// own surface never occludes it (relative, hence independent of scale).
 inline constexpr float kShadowRayShrink = 0x1p-13f;
@@ -73,7 +80,7 @@ inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, 
                                       float bsdf_pdf) {
   const float n = static_cast<float>(rs.light_samples);
   if (!hit) {
-    if (!s.sky || rs.cs184_invisible_sky) return {};
+    if (!sky_is_visible(s, rs)) return {};
     float3 L = sky_radiance(s, ray.dir);
     return is_black(L) ? L : L * power_heuristic(bsdf_pdf, n * sky_pdf(s, ray.dir));
   }
@@ -92,7 +99,7 @@ inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, 
 /// the sky where it escapes (sp == nullptr).
 inline float3 light_found_after_delta(const Scene& s, const RenderSettings& rs, const Ray& ray,
                                       const SurfacePoint* sp) {
-  if (!sp) return s.sky && !rs.cs184_invisible_sky ? sky_radiance(s, ray.dir) : float3{};
+  if (!sp) return sky_is_visible(s, rs) ? sky_radiance(s, ray.dir) : float3{};
   return emitted_radiance(s, *sp, ray, rs);
 }
 

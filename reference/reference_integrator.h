@@ -51,7 +51,7 @@ class ReferenceIntegrator {
         else
           L += beta * direct_light(point, ps, vertex, stats, &bsdf);
       }
-      if (!rules_.traces_bsdf_ray(vertex)) break;
+      if (!(bsdf.delta() ? rules_.traces_delta_ray(vertex) : rules_.traces_bsdf_ray(vertex))) break;
 
       // Continue: the BSDF's sample (f cos / pdf = weight), then Russian roulette.
       const BsdfScatter bs = bsdf.sample(point, ps, vertex);
@@ -81,7 +81,7 @@ class ReferenceIntegrator {
   }
 
  private:
-  bool sky_visible() const { return scene_.sky && !rs_.cs184_invisible_sky; }
+  bool sky_visible() const { return sky_is_visible(scene_, rs_); }
   float3 sky(const float3& dir) const { return sky_visible() ? sky_radiance(scene_, dir) : float3{}; }
 
   /// Direct light at vertex `vertex` from its light samples, each shadow or

@@ -61,6 +61,7 @@ if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   level=$(./build-asan/io/cli/pathtracer --list-isa | awk '{print $1}')
   log=build-asan/ctest.log
   if ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+     LSAN_OPTIONS=suppressions="$PWD/scripts/build/lsan_suppressions.txt":print_suppressions=0 \
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -E "$slow" 2>&1 | tee "$log"; then :; else failed=1; fi
   summary+=("asan+ubsan native $level: $(ctest_counts "$log") (the slow statistical tests left out)")

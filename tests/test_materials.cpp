@@ -85,6 +85,33 @@ TEST(Materials, MirrorAndGlassSpheresAreInvisibleInAUniformEnvironment) {
   }
 }
 
+// A mirror floor under a large area light, seen from below the light: with
+// -m 1 every pixel shows the light after one reflection, R x Le exactly (the
+// mirror at the last vertex still sends its ray, since it takes no light
+// sample); with -m 0 only what the camera sees directly counts: black.
+TEST(Materials, AMirrorAtTheLastVertexShowsTheLightItReflects) {
+  const float3 reflectance{0.9f, 0.6f, 0.3f}, le{2.0f, 3.0f, 4.0f};
+  Scene s;
+  uint32_t mirror = add_kind(s, MaterialKind::kMirror, reflectance);
+  test::add_parallelogram(s, {-20.0f, 0.0f, 20.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -40.0f}, mirror);
+  test::add_area_light(s, {0.0f, 2.0f, 0.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 40.0f}, {0.0f, -1.0f, 0.0f}, le);
+  test::finish_scene(s);
+  Camera cam = test::look_at({0.0f, 1.0f, 0.5f}, {0.0f, 0.0f, -0.5f}, 0.3f, 0.3f);
+  for (const Mode& mode : kModes)
+    for (int depth : {0, 1, 2}) {
+      RenderSettings rs = test::fixed_settings(12, 12, 2);
+      rs.max_depth = depth;
+      rs.direct = mode.direct;
+      const float3 expected = depth == 0 ? float3(0.0f) : reflectance * le;
+      for (const test::EngineUnderTest& engine : test::engines_under_test()) {
+        Film f = engine.render(s, cam, rs).film;
+        for (const float3& px : f.radiance)
+          for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(px[c], expected[c], 1e-5f * expected[c]) << engine.name << ", " << mode.name << ", -m " << depth;
+      }
+    }
+}
+
 /// A diffuse floor and sphere under the sky (or a map standing in for it).
 Scene sky_scene() {
   Scene s;

@@ -22,7 +22,7 @@ template <class Tracer>
 class MegakernelPath {
  public:
   MegakernelPath(const Scene& scene, const RenderSettings& rs, const Tracer& tracer)
-      : scene_(scene), rs_(rs), tracer_(tracer), rules_(scene, rs), sky_visible_(scene.sky && !rs.cs184_invisible_sky) {}
+      : scene_(scene), rs_(rs), tracer_(tracer), rules_(scene, rs), sky_visible_(sky_is_visible(scene, rs)) {}
 
   float3 radiance(Ray ray, const PathSampler& ps, RenderStats& stats) const {
     Hit hit;
@@ -43,7 +43,7 @@ class MegakernelPath {
         if (bsdf.lambertian()) add_direct_light(point, ps, vertex, beta * material.albedo * kInvPi, nullptr, L, stats);
         else add_direct_light(point, ps, vertex, beta, &bsdf, L, stats);
       }
-      if (!rules_.traces_bsdf_ray(vertex)) break;
+      if (!(bsdf.delta() ? rules_.traces_delta_ray(vertex) : rules_.traces_bsdf_ray(vertex))) break;
       const BsdfScatter bs = bsdf.sample(point, ps, vertex);
       if (!bs.ok) break;
       beta = beta * bs.weight;

@@ -13,7 +13,7 @@ namespace pt::wf {
 void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays,
                  const HitQueue& hits, PathState& paths, ShadeOutputs out) {
   const uint32_t vertex = depth + 1;
-  if (!ctx.rules.traces_bsdf_ray(vertex)) return;
+  if (!ctx.rules.traces_delta_ray(vertex)) return;
   const RenderSettings& rs = ctx.settings;
   const MaterialArrays& mats = ctx.materials;
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {

@@ -48,7 +48,7 @@ WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& 
       settings(rs),
       materials(s),
       rules(s, rs),
-      sky_visible(s.sky && !rs.cs184_invisible_sky),
+      sky_visible(sky_is_visible(s, rs)),
       material_kinds(s.material_kinds()),
       has_delta((material_kinds & ((1u << uint32_t(MaterialKind::kMirror)) | (1u << uint32_t(MaterialKind::kGlass)) |
                                    (1u << uint32_t(MaterialKind::kRefraction)))) != 0) {

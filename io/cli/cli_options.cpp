@@ -93,10 +93,11 @@ void Converter::convert(const RawValues& raw) {
   integer("--seed", "seed", raw.seed, 0, std::numeric_limits<uint32_t>::max(), s.seed);
   auto finite_at_least_zero = [](double v) { return v >= 0.0 && v <= 1e30; };
   auto positive = [](double v) { return v > 0.0 && v <= 1e30; };
-  if (app_.count("-b") > 0) o_.lens_radius.emplace();
-  number("-b", "lens radius", raw.lens_radius, "a number >= 0 (0: pinhole)", finite_at_least_zero, *o_.lens_radius);
-  if (app_.count("-d") > 0) o_.focal_distance.emplace();
-  number("-d", "focal distance", raw.focal_distance, "a positive number", positive, *o_.focal_distance);
+  float lens_radius = -1.0f, focal_distance = -1.0f;
+  number("-b", "lens radius", raw.lens_radius, "a number >= 0 (0: pinhole)", finite_at_least_zero, lens_radius);
+  number("-d", "focal distance", raw.focal_distance, "a positive number", positive, focal_distance);
+  if (app_.count("-b") > 0 && error.empty()) o_.lens_radius = lens_radius;
+  if (app_.count("-d") > 0 && error.empty()) o_.focal_distance = focal_distance;
   integer("--leaf-size", "leaf size", raw.leaf_size, 1, 64, o_.max_leaf_size);
   number("--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
          [](double v) { return v > 0.0; }, o_.checkpoint_every);

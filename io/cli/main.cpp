@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -109,14 +110,17 @@ void print_memory(const cli::Options& o, const Scene& scene, const RenderOutput&
 }
 
 /// The render's camera: the scene's (or the -c file's), with -b / -d's thin
-/// lens. -b without -d (or a file's focal distance) focuses on the point the
-/// camera looks at.
+/// lens. -b without -d (or a file's focal distance) focuses on the plane
+/// through the scene's centre.
 Camera render_camera(const cli::Options& o, const Scene& scene) {
   const RenderSettings& rs = o.settings;
   Camera c = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
                                    : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
   if (o.lens_radius) {
-    if (!c.thin_lens() && !o.focal_distance) c.focal_distance = length(c.position - scene.bounds.center());
+    if (!c.thin_lens() && !o.focal_distance) {
+      float d = dot(scene.bounds.center() - c.position, -c.to_camera);
+      c.focal_distance = std::isfinite(d) && d > 0.0f ? d : 1.0f;  // empty scene or centre behind: 1 unit
+    }
     c.lens_radius = *o.lens_radius;
   }
   if (o.focal_distance) c.focal_distance = *o.focal_distance;
