@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "bvh/scene_bvh2.h"
+#include "kernels/bounce_light.h"
 #include "kernels/direct_light.h"
 #include "kernels/path_rules.h"
 #include "kernels/path_sampler.h"
@@ -67,14 +68,8 @@ class ReferenceIntegrator {
       ++stats.bounce_rays;
       bool found = accel_.intersect(ray, hit, stats.intersection_tests);
       if (found) sp = surface_at(scene_, ray, hit);
-      if (bs.delta) {
-        if (rules_.counts(vertex)) L += beta * light_found_after_delta(scene_, rs_, ray, found ? &sp : nullptr);
-      } else {
-        if (rules_.bsdf_competes(vertex))
-          L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
-        if (found && emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
-          L += beta * emitted_radiance(scene_, sp, ray, rs_);
-      }
+      L += beta * light_found_by_bounce(scene_, rs_, rules_, vertex, ray, found ? &hit : nullptr, found ? &sp : nullptr,
+                                        bs.pdf, bs.delta);
       if (!found || !rules_.continues(vertex)) break;  // the final bounce only collects emission
     }
     return L;

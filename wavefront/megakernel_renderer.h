@@ -8,6 +8,7 @@
 
 #include <chrono>
 
+#include "kernels/bounce_light.h"
 #include "kernels/camera_sample.h"
 #include "kernels/direct_light.h"
 #include "kernels/path_rules.h"
@@ -56,14 +57,8 @@ class MegakernelPath {
       ++stats.bounce_rays;
       bool found = tracer_.intersect(ray, hit, stats.intersection_tests);
       if (found) sp = surface_at(scene_, ray, hit);
-      if (bs.delta) {
-        if (rules_.counts(vertex)) L += beta * light_found_after_delta(scene_, rs_, ray, found ? &sp : nullptr);
-      } else {
-        if (rules_.bsdf_competes(vertex))
-          L += beta * mis_light_found_by_bsdf(scene_, rs_, ray, found ? &hit : nullptr, bs.pdf);
-        if (found && emission_found_by_bounce(scene_, sp, rs_) && rules_.counts_emission_found(vertex))
-          L += beta * emitted_radiance(scene_, sp, ray, rs_);
-      }
+      L += beta * light_found_by_bounce(scene_, rs_, rules_, vertex, ray, found ? &hit : nullptr, found ? &sp : nullptr,
+                                        bs.pdf, bs.delta);
       if (!found || !rules_.continues(vertex)) break;  // the final bounce only collects emission
     }
     return L;

@@ -6,6 +6,7 @@
 #include "shade_kernels.h"
 
 #include "fetch_surfaces.h"
+#include "kernels/bounce_light.h"
 #include "kernels/direct_light.h"
 #include "kernels/path_sampler.h"
 #include "kernels/shading.h"
@@ -24,13 +25,12 @@ struct Chunk {
   uint32_t vertex;
 };
 
-
-/// Emission the rays see, and under MIS the light their BSDF sample found
-/// (scalar: only lanes that hit emitters, or escaped where the sky counts).
+/// Emission the rays see, and the light their BSDF sample found
+/// (light_found_by_bounce; scalar: only lanes that hit emitters, or escaped
+/// where the sky counts).
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
                   uint32_t lanes, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
-  const bool mis = depth > 0 && ctx.rules.bsdf_competes(depth);
   for_each_lane(lanes, [&](size_t lane) {
     size_t i = i0 + lane;
     uint32_t path = rays.path[i];
@@ -38,24 +38,18 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
     Hit hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]};
     float3 beta{paths.beta_r[path], paths.beta_g[path], paths.beta_b[path]};
     float3 L;
-    if (ctx.has_delta && depth > 0 && paths.bsdf_pdf[path] < 0.0f) {  // after a delta lobe
-      if (ctx.rules.counts(depth)) {
-        SurfacePoint sp;
-        if (hit.valid()) sp = surface_at(ctx.scene, ray, hit);
-        L = beta * light_found_after_delta(ctx.scene, rs, ray, hit.valid() ? &sp : nullptr);
+    SurfacePoint sp;
+    if (hit.valid()) sp = surface_at(ctx.scene, ray, hit);
+    if (depth == 0) {
+      if (!hit.valid()) {
+        if (ctx.rules.counts_escape(0, ctx.sky_visible)) L = sky_radiance(ctx.scene, ray.dir);
+      } else if (ctx.rules.counts(0)) {
+        L = emitted_radiance(ctx.scene, sp, ray, rs);
       }
-    } else if (!hit.valid()) {
-      if (depth == 0 && ctx.rules.counts_escape(0, ctx.sky_visible)) L = sky_radiance(ctx.scene, ray.dir);
-      else if (mis) L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, nullptr, paths.bsdf_pdf[path]);
     } else {
-      SurfacePoint sp = surface_at(ctx.scene, ray, hit);
-      if (depth == 0) {
-        if (ctx.rules.counts(0)) L = emitted_radiance(ctx.scene, sp, ray, rs);
-      } else if (emission_found_by_bounce(ctx.scene, sp, rs) && ctx.rules.counts_emission_found(depth)) {
-        L = beta * emitted_radiance(ctx.scene, sp, ray, rs);
-      } else if (mis) {
-        L = beta * mis_light_found_by_bsdf(ctx.scene, rs, ray, &hit, paths.bsdf_pdf[path]);
-      }
+      const float pdf = paths.bsdf_pdf[path];  // < 0: the ray left a delta lobe
+      L = beta * light_found_by_bounce(ctx.scene, rs, ctx.rules, depth, ray, hit.valid() ? &hit : nullptr,
+                                       hit.valid() ? &sp : nullptr, pdf, ctx.has_delta && pdf < 0.0f);
     }
     if (!is_black(L)) paths.add_radiance(path, L.x, L.y, L.z);
   });

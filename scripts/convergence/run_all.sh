@@ -8,13 +8,14 @@
 # (small images, few samples: a smoke test) writes only build/convergence_quick/.
 #
 # Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
-# Not part of CI: a full run takes about 8 minutes on 2 cores.
+# Not part of CI: a full run takes about 8 minutes on 2 cores with cached
+# references (each new 320x240 reference takes 5-10 minutes).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 here=scripts/convergence
 
 quick=0
-scenes="CBspheres_lambertian CBbunny CBempty bunny"
+scenes="CBspheres_lambertian CBbunny CBempty bunny CBgems CBcoil CBspheres_microfacet_al_ag"
 all_scenes=1   # the README's tables are only replaced by a run over every scene
 while [ $# -gt 0 ]; do
   case "$1" in
