@@ -35,6 +35,7 @@
 #include "kernels/environment_map.h"
 #include "kernels/sampling.h"
 #include "sampling_histogram.h"
+#include "run_process.h"
 #include "statistics.h"
 #include "test_support.h"
 
@@ -125,21 +126,7 @@ double sin_theta_of(const float3& d) {
 
 // ---------------------------------------------------------------- EXR files
 
-/// A fresh directory under the system temporary directory, removed at the end.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("pt_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(path_);
-  }
-  ~ScratchDir() { std::filesystem::remove_all(path_); }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using test::ScratchDir;
 
 void write_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
@@ -255,7 +242,7 @@ TEST(ExrImage, WritingAnEmptyOrInconsistentImageThrows) {
   ScratchDir dir;
   EXPECT_THROW(write_exr(dir / "a.exr", RgbImage{0, 0, {}}), InputError);
   EXPECT_THROW(write_exr(dir / "b.exr", RgbImage{2, 2, {float3(1.0f)}}), InputError);
-  EXPECT_THROW(write_exr((dir / "no_such_dir") + "/c.exr", random_image(2, 2, 1)), InputError);
+  EXPECT_THROW(write_exr(dir / "no_such_dir" / "c.exr", random_image(2, 2, 1)), InputError);
 }
 
 TEST(ExrImage, AReadMapBuildsAnEnvironmentMap) {

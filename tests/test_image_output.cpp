@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "run_process.h"
 #include "io/image_output.h"
 #include "io/scene_error.h"
 #include "png_decode.h"
@@ -22,21 +23,7 @@
 namespace pt {
 namespace {
 
-/// A fresh directory under the system temporary directory, removed at the end.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("pt_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(path_);
-  }
-  ~ScratchDir() { std::filesystem::remove_all(path_); }
-  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  std::filesystem::path path_;
-};
+using test::ScratchDir;
 
 /// L with (L sqrt 2)^(1/2.2) = v.
 float linear_for(double v) { return static_cast<float>(std::pow(v, 2.2) / std::sqrt(2.0)); }
