@@ -6,6 +6,7 @@
 // reads files or throws.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "vec3.h"
@@ -41,6 +42,10 @@ class EnvironmentMap {
   EnvironmentMap(int width, int height, std::vector<float3> texels);
 
   int width() const { return width_; }
+  /// Bytes held: texels and both CDFs.
+  size_t bytes() const {
+    return texels_.capacity() * sizeof(float3) + (marginal_cdf_.capacity() + conditional_cdf_.capacity()) * sizeof(float);
+  }
   int height() const { return height_; }
 
   /// Bilinear radiance along unit direction `dir` leaving the scene (the

@@ -31,6 +31,14 @@ MaterialArrays::MaterialArrays(const Scene& s) {
   }
 }
 
+size_t MaterialArrays::bytes() const {
+  size_t b = (emits.capacity() + kind.capacity()) * sizeof(int32_t);
+  for (const AlignedVector<float>* v : {&albedo_r, &albedo_g, &albedo_b, &ior, &alpha, &trans_r, &trans_g, &trans_b,
+                                        &eta_r, &eta_g, &eta_b, &k_r, &k_g, &k_b})
+    b += v->capacity() * sizeof(float);
+  return b;
+}
+
 TriangleArrays::TriangleArrays(const Scene& s) {
   static const int32_t kZeroIndices[4] = {0, 0, 0, 0};
   static const float kZeroFloats[4] = {0, 0, 0, 0};

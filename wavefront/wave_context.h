@@ -24,6 +24,7 @@ struct MaterialArrays {
   AlignedVector<float> ior, alpha, trans_r, trans_g, trans_b, eta_r, eta_g, eta_b, k_r, k_g, k_b;
 
   explicit MaterialArrays(const Scene& s);
+  size_t bytes() const;
 };
 
 /// Triangle data as raw arrays for gathers. Never null: an empty scene points

@@ -61,6 +61,7 @@ void add_scene_memory(MemoryReport& r, const Scene& s) {
   add(r, "scene: materials", bytes_of(s.materials), MemoryScale::kFixed);
   add(r, "scene: lights", bytes_of(s.area_lights) + bytes_of(s.point_lights) + bytes_of(s.directional_lights),
       MemoryScale::kFixed);
+  if (s.environment) add(r, "scene: environment map (texels, CDFs)", exactly(s.environment->bytes()), MemoryScale::kFixed);
 }
 
 void add_render_memory(MemoryReport& r, const RenderSettings& rs, const Scene& scene, const RenderOutput& out,
@@ -75,8 +76,7 @@ void add_render_memory(MemoryReport& r, const RenderSettings& rs, const Scene& s
         MemoryScale::kTriangle, true);
   if (e.engine == Engine::kWavefront) {
     wf::MaterialArrays mats(scene);
-    add(r, "wavefront: material arrays", bytes_of(mats.albedo_r) + bytes_of(mats.albedo_g) + bytes_of(mats.albedo_b) +
-        bytes_of(mats.emits), MemoryScale::kFixed);
+    add(r, "wavefront: material arrays", exactly(mats.bytes()), MemoryScale::kFixed);
     add(r, "wavefront: wave queues", exactly(e.queue_bytes), MemoryScale::kThread);
   }
   if (e.engine != Engine::kReference) {
