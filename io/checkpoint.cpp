@@ -49,6 +49,7 @@ std::string render_fingerprint(const std::string& engine, const Scene& scene, co
   o << "engine=" << engine << " scene=" << scene.name << " tris=" << scene.triangles.size()
     << " spheres=" << scene.spheres.size()
     << " geometry=" << fnv1a(scene.positions.data(), scene.positions.size() * sizeof(float3))
+    << " materials=" << fnv1a(scene.materials.data(), scene.materials.size() * sizeof(Material))
     << " camera=" << fnv1a(&c, sizeof c) << " size=" << rs.width << "x" << rs.height << " s=" << rs.samples_per_pixel
     << " l=" << rs.light_samples << " m=" << rs.max_depth << " a=" << rs.adaptive_batch << "," << rs.adaptive_tolerance
     << " rr=" << rs.rr_continue << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)

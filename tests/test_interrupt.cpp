@@ -101,7 +101,8 @@ TEST(Checkpoint, RoundTripsAndRefusesADifferentRender) {
   acc.samples_done = 8;
   acc.pixels.resize(size_t(f.rs.width) * f.rs.height);
   acc.pixels[5].add({1, 2, 3});
-  std::filesystem::path path = std::filesystem::temp_directory_path() / "pt_test_checkpoint.bin";
+  test::ScratchDir scratch;  // unique: test programs may run concurrently
+  std::filesystem::path path = scratch / "checkpoint.bin";
   std::string fp = render_fingerprint("wavefront", f.scene, f.camera, f.rs);
   save_checkpoint(path, fp, acc);
   std::optional<Accumulation> back = load_checkpoint(path, fp, acc.pixels.size(), 64);
@@ -132,9 +133,8 @@ int run_pathtracer(const std::vector<std::string>& args, double interrupt_after)
 }
 
 TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "pt_test_interrupt";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  test::ScratchDir scratch;  // unique: test programs may run concurrently
+  const std::filesystem::path dir = scratch.path();
   std::vector<std::string> common = {"--engine", "wavefront", "-t", "2", "-s", "4096", "-m", "5", "-a", "64", "0.005",
                                      "-r", "96", "72", "-q"};
   auto with = [&](std::vector<std::string> extra) {
@@ -156,7 +156,6 @@ TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
   EXPECT_EQ(test::file_bytes(out), test::file_bytes(dir / "full.png"));
   EXPECT_EQ(test::file_bytes(dir / "img_rate.png"), test::file_bytes(dir / "full_rate.png"));
   EXPECT_FALSE(std::filesystem::exists(ck));  // removed once complete
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

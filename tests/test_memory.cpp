@@ -102,7 +102,8 @@ TEST(PeakMemory, CBbunnyAt480x360StaysUnder64MBInEveryEngine) {
   GTEST_SKIP() << "AddressSanitizer's shadow memory inflates the resident set";
 #endif
   const size_t limit = 64'000'000;
-  std::filesystem::path out = std::filesystem::temp_directory_path() / "pt_test_memory.png";
+  test::ScratchDir scratch;  // unique: test programs may run concurrently
+  std::filesystem::path out = scratch / "memory.png";
   for (const char* engine : {"wavefront", "megakernel", "reference"}) {
     test::ProcessResult r = test::run_process(
         PT_PATHTRACER_BINARY, {"--engine", engine, "-t", "2", "-s", "2", "-m", "5", "-a", "16", "0", "-r", "480", "360",
