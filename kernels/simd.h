@@ -27,6 +27,25 @@
 #error "the SIMD kernels are written for x86-64 and aarch64"
 #endif
 #include <xsimd/xsimd.hpp>
+
+#if XSIMD_WITH_NEON64
+// Debian 12's xsimd divides and takes square roots of float batches on
+// aarch64 by reciprocal estimates and Newton steps, which are not correctly
+// rounded (one ulp off the float result); AArch64 has IEEE instructions for
+// both. These specialisations of xsimd's neon kernels for neon64 use them,
+// so a NEON lane computes the bits a float does, as every x86 level does.
+namespace xsimd::kernel {
+template <>
+inline batch<float, neon64> div<neon64>(batch<float, neon64> const& lhs, batch<float, neon64> const& rhs,
+                                        requires_arch<neon>) noexcept {
+  return vdivq_f32(lhs, rhs);
+}
+template <>
+inline batch<float, neon64> sqrt<neon64>(batch<float, neon64> const& arg, requires_arch<neon>) noexcept {
+  return vsqrtq_f32(arg);
+}
+}  // namespace xsimd::kernel
+#endif
 #pragma GCC diagnostic pop
 
 /// For the per-node and per-block tests of the traversal loops, which the

@@ -84,7 +84,8 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   for p in "${programs[@]}"; do
     log=build-aarch64/qemu/$p.log
     n=$(grep -oP '\[  PASSED  \] \K[0-9]+' "$log" || echo 0)
-    f=$(grep -oP '\[  FAILED  \] \K[0-9]+(?= tests?, listed below)' "$log" || echo 0)
+    # --gtest_brief prints one '[  FAILED  ] Suite.Test (N ms)' line per failure and no failure total
+    f=$(grep -cP '^\[  FAILED  \] \S+ \([0-9]+ ms\)$' "$log" || true)
     s=$(grep -oP '\[  SKIPPED \] \K[0-9]+(?= tests?,)' "$log" || echo 0)
     passed=$((passed + n)) failed_n=$((failed_n + f)) skipped=$((skipped + s))
     if [ "$(cat build-aarch64/qemu/$p.status)" != 0 ]; then
