@@ -27,6 +27,9 @@ struct RenderControl {
   std::function<void(const Accumulation&)> on_pass;
   std::function<void(const Accumulation&)> on_interrupt;
 
+  /// The film holds only the render region (Film::cropped), not the image.
+  bool crop_film = false;
+
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
 

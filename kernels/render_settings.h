@@ -35,6 +35,7 @@ enum class ShadingMode : uint8_t { kPathTrace, kNormals };
 /// A rectangle of the image, (x, y) = top-left pixel, in pixels.
 struct Region {
   int x = 0, y = 0, width = 0, height = 0;
+  bool operator==(const Region&) const = default;
 };
 
 struct RenderSettings {
@@ -58,6 +59,8 @@ struct RenderSettings {
   bool cs184_light_pdf = false;    ///< area-light samples weighted by their distance (course renderer's pdf)
   bool cs184_materials = false;    ///< the course's Fresnel approximations and refraction scaling (bsdf.h)
 
+  /// The pixels rendered: the region, else the whole image.
+  Region area() const { return region ? *region : Region{0, 0, width, height}; }
   bool adaptive() const { return adaptive_tolerance > 0.0f && adaptive_batch > 0; }
   /// Whether direct light is estimated by tracing rays that find emitters.
   bool direct_by_hitting() const {

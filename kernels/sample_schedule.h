@@ -31,7 +31,7 @@ inline bool adaptive_check_due(const RenderSettings& rs, uint32_t done) {
 
 /// Pixel indices (y * width + x) of the render region in 8x8-tile order.
 inline std::vector<uint32_t> tiled_pixel_order(const RenderSettings& rs) {
-  Region r = rs.region ? *rs.region : Region{0, 0, rs.width, rs.height};
+  Region r = rs.area();
   std::vector<uint32_t> order;
   order.reserve(size_t(r.width) * r.height);
   for (int ty = r.y; ty < r.y + r.height; ty += kPixelTile)

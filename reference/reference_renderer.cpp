@@ -17,10 +17,6 @@ namespace {
 
 constexpr int kTile = 16;
 
-Region render_region(const RenderSettings& rs) {
-  return rs.region ? *rs.region : Region{0, 0, rs.width, rs.height};
-}
-
 }  // namespace
 
 RenderOutput render_reference(const Scene& scene, const Camera& camera, const RenderSettings& rs,
@@ -34,8 +30,9 @@ RenderOutput render_reference(const Scene& scene, const SceneBvh2& accel, const 
   auto start = std::chrono::steady_clock::now();
   ReferenceIntegrator integrator(scene, accel, rs);
   RenderOutput out;
-  out.film = Film(rs.width, rs.height, static_cast<uint32_t>(rs.samples_per_pixel));
-  Region region = render_region(rs);
+  Region region = rs.area();
+  const uint32_t spp = static_cast<uint32_t>(rs.samples_per_pixel);
+  out.film = control.crop_film ? Film::cropped(region, spp) : Film(rs.width, rs.height, spp);
   int tiles_x = (region.width + kTile - 1) / kTile, tiles_y = (region.height + kTile - 1) / kTile;
   int tile_count = tiles_x * tiles_y;
   std::atomic<int> tiles_done{0};

@@ -114,21 +114,21 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
   const MegakernelPath<Tracer> path(scene, rs, tracer);
   Accumulation acc = initial_accumulation(rs, control);
   RenderOutput out;
-  auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, std::vector<PixelAccumulator>& px,
+  auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, Accumulation& px,
                    RenderStats& stats) {
     for (uint32_t pixel : pixels) {
       int x = static_cast<int>(pixel % static_cast<uint32_t>(rs.width));
       int y = static_cast<int>(pixel / static_cast<uint32_t>(rs.width));
       for (uint32_t s = first; s < first + len; ++s) {
         PathSampler ps(rs, pixel, s);
-        if (!px[pixel].add(path.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats)))
+        if (!px.at(pixel).add(path.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats)))
           ++stats.invalid_samples;
       }
       stats.samples += len;
     }
   };
   run_passes(rs, 4096, control, acc, out.stats, chunk);
-  out.film = film_from(acc, rs);
+  out.film = film_from(acc, rs, control);
   out.cancelled = control.cancelled();
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -20,14 +20,20 @@
 
 namespace pt::wf {
 
-/// Film of the accumulated means and sample counts.
-inline Film film_from(const Accumulation& acc, const RenderSettings& rs) {
-  Film film(rs.width, rs.height, static_cast<uint32_t>(rs.samples_per_pixel));
-  for (size_t i = 0; i < acc.pixels.size(); ++i) {
-    film.radiance[i] = acc.pixels[i].mean();
-    film.samples[i] = acc.pixels[i].samples;
-    film.variance[i] = static_cast<float>(variance_of_mean(acc.pixels[i].moments, acc.pixels[i].samples));
-  }
+/// Film of the accumulated means and sample counts: the image, or only the
+/// region when control.crop_film asks.
+inline Film film_from(const Accumulation& acc, const RenderSettings& rs, const RenderControl& control) {
+  const uint32_t spp = static_cast<uint32_t>(rs.samples_per_pixel);
+  Film film = control.crop_film ? Film::cropped(acc.area, spp) : Film(rs.width, rs.height, spp);
+  const Region& a = acc.area;
+  for (int y = a.y; y < a.y + a.height; ++y)
+    for (int x = a.x; x < a.x + a.width; ++x) {
+      const PixelAccumulator& p = acc.pixels[size_t(y - a.y) * a.width + (x - a.x)];
+      size_t i = film.index(x, y);
+      film.radiance[i] = p.mean();
+      film.samples[i] = p.samples;
+      film.variance[i] = static_cast<float>(variance_of_mean(p.moments, p.samples));
+    }
   return film;
 }
 
@@ -35,22 +41,25 @@ inline Film film_from(const Accumulation& acc, const RenderSettings& rs) {
 inline std::vector<uint32_t> active_pixels(const Accumulation& acc, const RenderSettings& rs) {
   std::vector<uint32_t> active;
   for (uint32_t p : tiled_pixel_order(rs))
-    if (!acc.pixels[p].converged) active.push_back(p);
+    if (!acc.at(p).converged) active.push_back(p);
   return active;
 }
 
-/// Starts from control.resume_from when given (and sized for this image).
+/// Starts from control.resume_from when given (and sized for this region).
 inline Accumulation initial_accumulation(const RenderSettings& rs, const RenderControl& control) {
-  if (control.resume_from && control.resume_from->pixels.size() == size_t(rs.width) * rs.height)
-    return *control.resume_from;
   Accumulation acc;
-  acc.pixels.resize(size_t(rs.width) * rs.height);
+  const Region area = rs.area();
+  const size_t n = size_t(area.width) * area.height;
+  if (control.resume_from && control.resume_from->pixels.size() == n) acc = *control.resume_from;
+  else acc.pixels.resize(n);
+  acc.area = area;
+  acc.image_width = rs.width;
   return acc;
 }
 
 /// Runs passes until done or cancelled. `chunk(pixels, first_sample, samples,
-/// accumulators, stats)` renders samples [first, first + samples) of each
-/// pixel in `pixels` and adds them, in order, to accumulators[pixel]; it is
+/// acc, stats)` renders samples [first, first + samples) of each pixel in
+/// `pixels` and adds them, in order, to acc.at(pixel); it is
 /// called concurrently for disjoint pixel sets; a chunk is never interrupted,
 /// so after a cancel every pixel holds whole chunks. control.on_pass runs
 /// after each completed pass; control.checkpoint also on cancel.
@@ -68,7 +77,7 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
     // A pass interrupted before a checkpoint left some pixels finished; render the rest.
     std::vector<uint32_t> todo;
     for (uint32_t p : active)
-      if (acc.pixels[p].samples < acc.samples_done + len) todo.push_back(p);
+      if (acc.at(p).samples < acc.samples_done + len) todo.push_back(p);
     const size_t per_chunk = std::max<size_t>(1, paths_per_chunk / len);
     const size_t chunks = (todo.size() + per_chunk - 1) / per_chunk;
     std::atomic<bool> complete{true};
@@ -80,7 +89,7 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
         }
         size_t begin = c * per_chunk, end = std::min(todo.size(), begin + per_chunk);
         std::span<const uint32_t> pixels(todo.data() + begin, end - begin);
-        chunk(pixels, acc.samples_done, len, acc.pixels, thread_stats.local());
+        chunk(pixels, acc.samples_done, len, acc, thread_stats.local());
         uint64_t done = samples_finished.fetch_add(pixels.size() * len) + pixels.size() * len;
         if (control.progress) control.progress(std::min(1.0, done / total_samples));
       });
@@ -89,7 +98,7 @@ void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderCo
     acc.samples_done += len;
     if (adaptive_check_due(rs, acc.samples_done)) {
       std::erase_if(active, [&](uint32_t p) {
-        PixelAccumulator& a = acc.pixels[p];
+        PixelAccumulator& a = acc.at(p);
         a.converged = pixel_converged(a.moments, a.samples, rs.adaptive_tolerance) ? 1 : 0;
         return a.converged != 0;
       });

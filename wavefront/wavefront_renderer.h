@@ -27,7 +27,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
   Accumulation acc = initial_accumulation(rs, control);
   RenderOutput out;
 
-  auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, std::vector<PixelAccumulator>& px,
+  auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, Accumulation& px,
                    RenderStats& stats) {
     WaveBuffers& b = buffers.local();
     StageStats& ss = stages.local();
@@ -35,7 +35,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
     StageTimer t(ss, Stage::kAccumulate);
     for (size_t i = 0; i < b.paths.size; ++i) {
       float3 L{b.paths.radiance_r[i], b.paths.radiance_g[i], b.paths.radiance_b[i]};
-      if (!px[pixels[i / len]].add(L)) ++stats.invalid_samples;
+      if (!px.at(pixels[i / len]).add(L)) ++stats.invalid_samples;
     }
     stats.samples += b.paths.size;
   };
@@ -49,7 +49,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
   out.stats.shadow_rays = all.shadow_rays;
   out.stats.intersection_tests = all.primitive_tests;
   if (stage_stats) *stage_stats = all;
-  out.film = film_from(acc, rs);
+  out.film = film_from(acc, rs, control);
   out.cancelled = control.cancelled();
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
