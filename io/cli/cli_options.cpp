@@ -4,6 +4,7 @@
 // given); validate() then checks values against each other.
 #include "cli_options.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -30,7 +31,7 @@ constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};  
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
-  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance;
+  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard;
   std::vector<std::string> resolution, adaptive, region;
   bool hemisphere = false, normals = false, cs184 = false, list_isa = false;
 };
@@ -99,6 +100,17 @@ void Converter::convert(const RawValues& raw) {
   if (app_.count("-b") > 0 && error.empty()) o_.lens_radius = lens_radius;
   if (app_.count("-d") > 0 && error.empty()) o_.focal_distance = focal_distance;
   integer("--leaf-size", "leaf size", raw.leaf_size, 1, 64, o_.max_leaf_size);
+  integer("--tile", "tile size", raw.tile, 1, kMaxDimension, o_.tile_size);
+  if (app_.count("--shard") > 0 && error.empty()) {
+    size_t slash = raw.shard.find('/');
+    if (slash == std::string::npos) {
+      error = "--shard: expected I/N (this job's share I of N, counted from 0), got \"" + raw.shard + "\"";
+    } else {
+      integer("--shard", "shard count N of I/N", raw.shard.substr(slash + 1), 1, 1 << 20, o_.shard_count);
+      integer("--shard", "shard index I of I/N", raw.shard.substr(0, slash), 0, std::max(0, o_.shard_count - 1),
+              o_.shard_index);
+    }
+  }
   number("--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
          [](double v) { return v > 0.0; }, o_.checkpoint_every);
   choice("--engine", "engine", raw.engine, kEngines, o_.engine);
@@ -145,6 +157,11 @@ std::string validate(const Options& o) {
     return "--bvh bvh4: the reference engine traces only with bvh2 or none (it is the 4-wide BVH's arbiter)";
   if (!o.checkpoint_file.empty() && o.engine == Engine::kReference)
     return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
+  if (!o.merge.empty() && !o.scene_path.empty())
+    return "--merge assembles parts made by --shard and takes no scene (got " + o.scene_path + ")";
+  if (o.shard_count > 0 && !o.convergence_csv.empty()) return "--shard and --convergence-csv do not go together";
+  if (o.shard_count > 0 && !o.checkpoint_file.empty())
+    return "--shard renders its share in one go; rerun a shard that failed instead of --checkpoint";
   return {};
 }
 
@@ -159,6 +176,7 @@ std::string value_names(const CLI::Option& opt) {
   if (opt.check_sname("r")) return "W H";
   if (opt.check_sname("a")) return "BATCH TOL";
   if (opt.check_sname("p")) return "X Y DX DY";
+  if (opt.check_lname("merge")) return "OUT PART...";
   return "values";
 }
 
@@ -263,6 +281,13 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   path("--convergence-csv", o.convergence_csv,
        "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
   app.add_option("--label", o.label, "Method name written in the convergence CSV")->type_name("TEXT");
+  integer("--tile", raw.tile, "Tile edge in pixels of the work mpirun ranks and --shard jobs share; 64");
+  app.add_option("--shard", raw.shard,
+                 "Render share I of N (I/N, I from 0) of the tiles into the tile set -f names, for --merge")
+      ->type_name("I/N");
+  app.add_option("--merge", o.merge, "Assemble the image OUT from the tile sets PART... of every --shard")
+      ->expected(2, 1 << 20)
+      ->type_name("OUT PART");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("--memory", o.memory, "Print the bytes of every structure the render allocates and the peak RSS");
   app.add_flag("--no-packets", o.no_packets, "Wavefront: trace every ray on its own (no SIMD packets)");

@@ -9,7 +9,10 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <iostream>
+#include <memory>
 #include <optional>
+#include <sstream>
 
 #include "cli_options.h"
 #include "io/atomic_file.h"
@@ -18,11 +21,19 @@
 #include "io/collada_loader.h"
 #include "io/exr_image.h"
 #include "io/image_output.h"
+#include "io/tile_set.h"
 #include "io/scene_error.h"
 #include "convergence_run.h"
 #include "memory_report.h"
+#include "mpi_job.h"
 #include "progress_bar.h"
 #include "render_engines.h"
+#include "render_outputs.h"
+#include "shard_merge.h"
+#include "tile_render.h"
+#if PT_WITH_MPI
+#include "mpi_render.h"
+#endif
 
 namespace {
 
@@ -44,13 +55,6 @@ void install_stop_handlers() {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-}
-
-/// out.png -> out.partial.png
-std::filesystem::path partial_path(const std::filesystem::path& p) {
-  std::filesystem::path r = p;
-  r.replace_filename(p.stem().string() + ".partial" + p.extension().string());
-  return r;
 }
 
 /// Saves checkpoints every `every` seconds at pass boundaries and on interrupt.
@@ -75,26 +79,6 @@ struct Checkpointing {
 
 std::filesystem::path default_output(const cli::Options& o, const Scene& scene) {
   return std::filesystem::path(scene.name).stem().string() + ".png";
-}
-
-void print_report(const cli::Options& o, const RenderOutput& out) {
-  const RenderStats& st = out.stats;
-  double mrays = st.seconds > 0 ? st.rays() / st.seconds / 1e6 : 0.0;
-  std::string kernels = o.engine == cli::Engine::kReference
-                            ? "scalar"
-                            : std::string(isa_name(o.isa)) + ", " + std::to_string(isa_lanes(o.isa)) + " lanes";
-  std::printf("Rendered in %.3f s with the %s engine (%s, %s); %llu rays traced (camera %llu, bounce %llu, "
-              "shadow %llu); %.2f million rays per second; ",
-              st.seconds, cli::engine_name(o.engine), cli::accel_name(o.accel), kernels.c_str(),
-              static_cast<unsigned long long>(st.rays()), static_cast<unsigned long long>(st.camera_rays),
-              static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays);
-  if (st.intersection_tests > 0 || st.rays() == 0)
-    std::printf("%.2f intersection tests per ray", st.rays() ? double(st.intersection_tests) / st.rays() : 0.0);
-  else
-    std::printf("intersection tests not counted (--count-tests)");
-  std::printf("; %llu samples", static_cast<unsigned long long>(st.samples));
-  if (st.invalid_samples) std::printf("; %llu invalid samples discarded", static_cast<unsigned long long>(st.invalid_samples));
-  std::printf("\n");
 }
 
 /// --memory: the structures' bytes, measured after the image is written.
@@ -127,96 +111,234 @@ Camera render_camera(const cli::Options& o, const Scene& scene) {
   return c;
 }
 
-int run(const cli::Options& o) {
+/// Everything a render needs before it starts; loading, checks and the
+/// BVH build throw InputError (or bad_alloc) and are done by every rank.
+struct Prepared {
+  LoadResult loaded;
+  Camera camera;
+  std::filesystem::path output;
+  std::unique_ptr<cli::EngineRunner> engine;
+  Checkpointing checkpoint;       ///< one process: the pass-based engines' state
+  std::optional<TileSet> tiles;   ///< tiles (--shard, mpirun): the header and a checkpoint's tiles
+};
+
+void prepare(const cli::Options& o, const cli::MpiJob& job, Prepared& p) {
+  const bool speaks = job.rank() == 0 && !o.quiet;
   std::filesystem::path scene_path = o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE) : std::filesystem::path(o.scene_path);
-  LoadResult loaded = load_collada_file(scene_path);
+  p.loaded = load_collada_file(scene_path);
   if (!o.environment_map.empty()) {
     RgbImage map = read_exr(o.environment_map);
-    set_environment(loaded.scene, std::make_shared<EnvironmentMap>(map.width, map.height, std::move(map.texels)));
+    set_environment(p.loaded.scene, std::make_shared<EnvironmentMap>(map.width, map.height, std::move(map.texels)));
   }
-  for (const std::string& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  if (!o.quiet) std::printf("%s\n", scene_summary(loaded).c_str());
-  const Scene& scene = loaded.scene;
+  const Scene& scene = p.loaded.scene;
   const RenderSettings& rs = o.settings;
-  if (rs.direct_by_hitting() && scene.has_delta_lights_only())
-    std::fprintf(stderr,
-                 "warning: %s: hemisphere sampling cannot see point or directional lights; the image will be black "
-                 "(use light sampling)\n",
-                 scene.name.c_str());
-
+  if (job.rank() == 0) {
+    for (const std::string& w : p.loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (rs.direct_by_hitting() && scene.has_delta_lights_only())
+      std::fprintf(stderr,
+                   "warning: %s: hemisphere sampling cannot see point or directional lights; the image will be black "
+                   "(use light sampling)\n",
+                   scene.name.c_str());
+  }
+  if (speaks) std::printf("%s\n", scene_summary(p.loaded).c_str());
+  const bool tiled = o.shard_count > 0 || job.size() > 1;
+  if (tiled && (o.stats || o.memory || !o.convergence_csv.empty()))
+    throw InputError(std::string(o.stats ? "--stats" : o.memory ? "--memory" : "--convergence-csv") +
+                     " reports one whole-image render in one process; not with --shard or mpirun");
   if (!o.convergence_csv.empty()) {
     check_writable(o.convergence_csv);
-    Camera camera = render_camera(o, scene);
-    cli::EngineRunner engine(o, scene, camera);
-    install_stop_handlers();
-    return cli::run_convergence(o, engine, g_cancel);
+  } else {
+    p.output = !o.output_path.empty()  ? std::filesystem::path(o.output_path)
+               : o.shard_count > 0     ? std::filesystem::path(std::filesystem::path(scene.name).stem().string() + "." +
+                                                               std::to_string(o.shard_index) + "-of-" +
+                                                               std::to_string(o.shard_count) + ".tiles")
+                                       : default_output(o, scene);
+    if (o.shard_count > 0) check_writable(p.output);
+    else if (job.rank() == 0) cli::check_outputs_writable(o, p.output);
   }
-  std::filesystem::path output = o.output_path.empty() ? default_output(o, scene) : std::filesystem::path(o.output_path);
-  check_writable(output);
-  if (rs.adaptive()) check_writable(rate_image_path(output));
-  if (!o.write_camera_file.empty()) check_writable(o.write_camera_file);
-  if (!o.variance_file.empty()) check_writable(o.variance_file);
+  p.camera = render_camera(o, scene);
+  if (tiled) p.tiles = TileSet{cli::tile_set_header(o, scene, p.camera), {}, {}};
+  if (!o.checkpoint_file.empty() && job.rank() == 0) {
+    p.checkpoint.path = o.checkpoint_file;
+    p.checkpoint.every = o.checkpoint_every;
+    check_writable(p.checkpoint.path);
+    if (p.tiles) {
+      std::error_code ec;
+      if (std::filesystem::exists(p.checkpoint.path, ec)) {
+        TileSet saved = load_tile_set(p.checkpoint.path);
+        if (!(saved.header == p.tiles->header))
+          throw InputError(p.checkpoint.path.string() + ": checkpoint was written for a different render (" +
+                           saved.header.fingerprint.substr(0, 120) + "...)");
+        p.tiles->tiles = std::move(saved.tiles);
+        if (speaks)
+          std::printf("Resuming from %s (%zu of %u tiles done)\n", p.checkpoint.path.c_str(), p.tiles->tiles.size(),
+                      p.tiles->header.grid().count());
+      }
+    } else {
+      p.checkpoint.fingerprint = render_fingerprint(cli::engine_name(o.engine), scene, p.camera, rs);
+      p.checkpoint.resumed = load_checkpoint(p.checkpoint.path, p.checkpoint.fingerprint, size_t(rs.area().width) * rs.area().height,
+                                             static_cast<uint32_t>(rs.samples_per_pixel));
+      if (p.checkpoint.resumed && speaks)
+        std::printf("Resuming from %s (%u samples per pixel done)\n", p.checkpoint.path.c_str(),
+                    p.checkpoint.resumed->samples_done);
+    }
+  }
+  p.engine = std::make_unique<cli::EngineRunner>(o, scene, p.camera);
+}
 
-  Camera camera = render_camera(o, scene);
-
+/// One process renders the whole image with the engine's own passes.
+int render_in_one_process(const cli::Options& o, Prepared& p) {
+  const RenderSettings& rs = o.settings;
   RenderControl control;
   control.cancel = &g_cancel;
-  Checkpointing checkpoint;
-  if (!o.checkpoint_file.empty()) {
-    checkpoint.path = o.checkpoint_file;
-    checkpoint.every = o.checkpoint_every;
-    checkpoint.fingerprint = render_fingerprint(cli::engine_name(o.engine), scene, camera, rs);
-    check_writable(checkpoint.path);
-    checkpoint.resumed = load_checkpoint(checkpoint.path, checkpoint.fingerprint, size_t(rs.width) * rs.height,
-                                         static_cast<uint32_t>(rs.samples_per_pixel));
-    if (checkpoint.resumed && !o.quiet)
-      std::printf("Resuming from %s (%u samples per pixel done)\n", checkpoint.path.c_str(),
-                  checkpoint.resumed->samples_done);
-    checkpoint.attach(control);
-  }
+  if (!p.checkpoint.path.empty()) p.checkpoint.attach(control);
   cli::ProgressBar bar(!o.quiet);
   control.progress = [&bar](double f) { bar.update(f); };
-  install_stop_handlers();
-  cli::EngineRunner engine(o, scene, camera);
   size_t queue_bytes = 0;
-  RenderOutput out = engine.render(rs, control, &queue_bytes);
+  RenderOutput out = p.engine->render(rs, control, &queue_bytes);
   bar.finish();
 
-  const PngQuantization png = o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest;
   if (out.cancelled) {
-    std::filesystem::path partial = partial_path(output);
-    write_image(partial, out.film, png);
+    std::filesystem::path partial = cli::partial_path(p.output);
+    write_image(partial, out.film, o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest);
     std::fprintf(stderr, "interrupted: wrote the image so far to %s%s\n", partial.c_str(),
-                 checkpoint.path.empty() ? "" : (" and the state to " + checkpoint.path.string()).c_str());
+                 p.checkpoint.path.empty() ? "" : (" and the state to " + p.checkpoint.path.string()).c_str());
     return 128 + (g_signal ? g_signal : SIGINT);
   }
-  write_image(output, out.film, png);
-  if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), out.film);
-  if (!o.variance_file.empty()) write_variance_image(o.variance_file, out.film);
-  if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);
-  if (!checkpoint.path.empty()) std::filesystem::remove(checkpoint.path);  // complete: nothing to resume
+  cli::write_outputs(o, p.output, out.film, p.camera);
+  if (!p.checkpoint.path.empty()) std::filesystem::remove(p.checkpoint.path);  // complete: nothing to resume
   if (!o.quiet) {
-    print_report(o, out);
-    std::printf("Wrote %s%s\n", output.c_str(), rs.adaptive() ? (" and " + rate_image_path(output).string()).c_str() : "");
+    cli::print_report(o, out.stats);
+    std::printf("Wrote %s%s\n", p.output.c_str(), rs.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");
   }
-  if (o.memory) print_memory(o, scene, out, engine, queue_bytes, output);
+  if (o.memory) print_memory(o, p.loaded.scene, out, *p.engine, queue_bytes, p.output);
   return 0;
+}
+
+#if PT_WITH_MPI
+/// mpirun: the ranks share the tiles (cli/mpi_render.h); rank 0 writes the
+/// outputs, checkpoints and, when stopped, the partial image.
+int render_across_ranks(const cli::Options& o, const cli::MpiJob& job, Prepared& p) {
+  TileSet& set = *p.tiles;
+  const TileGrid grid = set.header.grid();
+  cli::ProgressBar bar(job.rank() == 0 && !o.quiet);
+  auto last_save = std::chrono::steady_clock::now();
+  auto after_tile = [&](const TileSet& s) {
+    bar.update(double(s.tiles.size()) / grid.count());
+    auto now = std::chrono::steady_clock::now();
+    if (!p.checkpoint.path.empty() && std::chrono::duration<double>(now - last_save).count() >= p.checkpoint.every) {
+      save_tile_set(p.checkpoint.path, s);
+      last_save = now;
+    }
+  };
+  const size_t resumed = set.tiles.size();
+  cli::TileWork work{p.engine.get(), o.settings, grid, &g_cancel};
+  auto start = std::chrono::steady_clock::now();
+  bool finished = cli::render_across_ranks(job, work, set, after_tile);
+  if (job.rank() != 0) return 0;
+  bar.finish();
+  RenderStats stats = set.stats;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Film film(set.header.width, set.header.height, set.header.max_samples);
+  for (const TilePixels& t : set.tiles) paste_tile(film, grid, t);
+  if (!finished) {
+    // Stopped: save what is done and end at once (mpirun kills every rank a
+    // second after it forwards a stop, and this rank must not wait in
+    // MPI_Finalize for ranks that are gone).
+    std::filesystem::path partial = cli::partial_path(p.output);
+    if (!p.checkpoint.path.empty()) save_tile_set(p.checkpoint.path, set);
+    write_image(partial, film, o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest);
+    std::fprintf(stderr, "interrupted: wrote the %zu of %u tiles finished to %s%s\n", set.tiles.size(), grid.count(),
+                 partial.c_str(),
+                 p.checkpoint.path.empty() ? "" : (" and to the checkpoint " + p.checkpoint.path.string()).c_str());
+    std::fflush(nullptr);
+    std::_Exit(128 + (g_signal ? g_signal : SIGINT));
+  }
+  cli::write_outputs(o, p.output, film, p.camera);
+  if (!p.checkpoint.path.empty()) std::filesystem::remove(p.checkpoint.path);
+  if (!o.quiet) {
+    cli::print_report(o, stats, job.size(), set.stats.seconds);
+    if (resumed) std::printf("Resumed %zu of %u tiles from %s\n", resumed, grid.count(), p.checkpoint.path.c_str());
+    std::printf("Wrote %s%s\n", p.output.c_str(),
+                o.settings.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");
+  }
+  return 0;
+}
+#endif
+
+/// The message of the exception being handled, as main prints it.
+std::string current_error() {
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    return "out of memory";
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown error";
+  }
+}
+
+int run(const cli::Options& o, const cli::MpiJob& job) {
+  if (!o.merge.empty()) return job.rank() == 0 ? cli::run_merge(o) : 0;
+  Prepared p;
+  if (job.size() == 1) {
+    prepare(o, job, p);
+  } else {
+    // Every rank prepares; if one fails, all stop together (none may wait for
+    // it), and a failure every rank shares is reported once, by rank 0.
+    std::string error;
+    try {
+      prepare(o, job, p);
+    } catch (...) {
+      error = current_error();
+    }
+    cli::MpiJob::Readiness ready = job.agree_ready(error.empty());
+    if (!ready.all) {
+      if (!error.empty() && job.rank() == 0) std::fprintf(stderr, "error: %s\n", error.c_str());
+      else if (!error.empty() && ready.rank0)
+        std::fprintf(stderr, "error: rank %d of %d: %s\n", job.rank(), job.size(), error.c_str());
+      return 1;
+    }
+  }
+  install_stop_handlers();
+  if (!o.convergence_csv.empty()) return cli::run_convergence(o, *p.engine, g_cancel);
+  if (o.shard_count > 0 && job.rank() != 0) return 0;  // a shard is one process's work
+  if (o.shard_count > 0)
+    return cli::run_shard(o, p.loaded.scene, p.camera, *p.engine, p.output, g_cancel, g_signal ? g_signal : SIGINT);
+#if PT_WITH_MPI
+  if (job.size() > 1) return render_across_ranks(o, job, p);
+#endif
+  return render_in_one_process(o, p);
+}
+
+/// Ranks other than 0 keep quiet while the command line is parsed (every
+/// rank parses the same line; rank 0 reports its errors once).
+cli::ParseResult parse_quietly_unless_rank0(int argc, char** argv, const cli::MpiJob& job) {
+  if (job.rank() == 0) return cli::parse_command_line(argc, argv);
+  std::ostringstream sink;
+  std::streambuf* out = std::cout.rdbuf(sink.rdbuf());
+  std::streambuf* err = std::cerr.rdbuf(sink.rdbuf());
+  cli::ParseResult parsed = cli::parse_command_line(argc, argv);
+  std::cout.rdbuf(out);
+  std::cerr.rdbuf(err);
+  return parsed;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  pt::cli::ParseResult parsed = pt::cli::parse_command_line(argc, argv);
+  pt::cli::MpiJob job(&argc, &argv);
+  pt::cli::ParseResult parsed = parse_quietly_unless_rank0(argc, argv, job);
   if (!parsed.options) return parsed.exit_code;
   try {
     pt::set_active_isa(parsed.options->isa);
-    return run(*parsed.options);
-  } catch (const pt::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "error: out of memory\n");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    return run(*parsed.options, job);
+  } catch (...) {
+    std::string error = current_error();
+    if (job.rank() == 0) std::fprintf(stderr, "error: %s\n", error.c_str());
+    else std::fprintf(stderr, "error: rank %d of %d: %s\n", job.rank(), job.size(), error.c_str());
+    if (job.size() > 1) job.abort(1);  // the other ranks may be waiting for this one
   }
   return 1;
 }
