@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Second command of the README: build and run the whole test suite.
-#  1. Release build (every instruction-set level in one binary); ctest once
-#     per level, each level forced through PT_ISA; a level this CPU cannot
-#     run is reported as skipped.
+#  1. Release build (every instruction-set level in one binary, with Open MPI:
+#     the mpirun tests run); ctest once per level, each level forced through
+#     PT_ISA; a level this CPU cannot run is reported as skipped.
 #  2. AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/, -O1,
-#     -march=native: the CPU's widest level, and the native build's path), with
-#     the replay of the fuzz regression files.
+#     -march=native: the CPU's widest level, and the native build's path;
+#     without MPI: the build everyone without Open MPI gets), with the replay
+#     of the fuzz regression files.
 #  3. On x86-64: an aarch64 cross build (build-aarch64/), whose kernel, BVH,
 #     engine-agreement, furnace and loader tests run under qemu-aarch64.
 # Installs missing dependencies first, so it also works on a fresh machine.
@@ -48,7 +49,7 @@ done < <(./build/io/cli/pathtracer --list-isa)
 # ------------------------------------------------------------- 2. Sanitizers
 if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   start=$(date +%s)
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_SANITIZE=ON -DPT_NATIVE=ON -DPT_BUILD_BENCH=OFF
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_SANITIZE=ON -DPT_NATIVE=ON -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF
   cmake --build build-asan
   # Left out under the sanitizers (they run in Release above): the tests that
   # take over 5 s there, measured at 3-30x their Release time (statistical
@@ -71,15 +72,26 @@ fi
 # ----------------------------------------------------------------- 3. aarch64
 if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   start=$(date +%s)
-  cmake -S . -B build-aarch64 -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_BENCH=OFF \
+  cmake -S . -B build-aarch64 -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF \
         -DCMAKE_TOOLCHAIN_FILE=scripts/build/aarch64-linux-gnu.cmake
-  programs=(test_isa test_sampling test_geometry test_loader test_bvh4_build test_bvh4_traversal test_bvh4_robustness
-            test_bvh4_batch test_engines test_light_transport test_engine_contract)
+  single_threaded=(test_isa test_sampling test_geometry test_loader)
+  threaded=(test_bvh4_build test_bvh4_traversal test_bvh4_robustness test_bvh4_batch test_engines test_light_transport
+            test_engine_contract)
+  programs=("${single_threaded[@]}" "${threaded[@]}")
+  # qemu-user 7.2 hangs in pthread_create under some host kernels (seen on
+  # Linux 6.18): probe with a two-thread program before the threaded tests.
+  mkdir -p build-aarch64/qemu
+  aarch64-linux-gnu-g++ -O1 -pthread scripts/build/thread_probe.cpp -o build-aarch64/thread_probe
+  qemu_note=""
+  if ! timeout 30 qemu-aarch64 build-aarch64/thread_probe > /dev/null 2>&1; then
+    programs=("${single_threaded[@]}")
+    qemu_note="; NOT RUN: ${threaded[*]} (qemu-aarch64 $(qemu-aarch64 --version | grep -oP 'version \K[^ ]+') cannot start a thread on this host, Linux $(uname -r))"
+    echo "run_tests: WARNING: qemu-aarch64 hangs starting a thread on this host; the threaded aarch64 tests are not run" >&2
+  fi
   cmake --build build-aarch64 --target "${programs[@]}"
   echo "run_tests: aarch64 (neon) tests under qemu-aarch64: ${programs[*]}"
-  mkdir -p build-aarch64/qemu
   printf '%s\n' "${programs[@]}" | xargs -P "$(nproc)" -I{} sh -c \
-    'qemu-aarch64 build-aarch64/tests/{} --gtest_brief=1 > build-aarch64/qemu/{}.log 2>&1; echo $? > build-aarch64/qemu/{}.status'
+    'timeout 1500 qemu-aarch64 build-aarch64/tests/{} --gtest_brief=1 > build-aarch64/qemu/{}.log 2>&1; echo $? > build-aarch64/qemu/{}.status'
   passed=0 failed_n=0 skipped=0
   for p in "${programs[@]}"; do
     log=build-aarch64/qemu/$p.log
@@ -94,7 +106,7 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
       cat "$log"
     fi
   done
-  summary+=("aarch64 neon (qemu, ${#programs[@]} test programs): $((passed + failed_n + skipped)) tests, $passed passed, $failed_n failed, $skipped skipped")
+  summary+=("aarch64 neon (qemu, ${#programs[@]} test programs): $((passed + failed_n + skipped)) tests, $passed passed, $failed_n failed, $skipped skipped$qemu_note")
   echo "run_tests: aarch64 build and tests took $(( $(date +%s) - start )) s"
 fi
 
