@@ -38,7 +38,7 @@ std::string render_fingerprint(const std::string& engine, const Scene& scene, co
     << " materials=" << fnv1a(scene.materials.data(), scene.materials.size() * sizeof(Material))
     << " camera=" << fnv1a(&c, sizeof c) << " size=" << rs.width << "x" << rs.height << " s=" << rs.samples_per_pixel
     << " l=" << rs.light_samples << " m=" << rs.max_depth << " a=" << rs.adaptive_batch << "," << rs.adaptive_tolerance
-    << " rr=" << rs.rr_continue << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)
+    << " rr=" << rs.rr_continue << " rr_mode=" << int(rs.roulette) << " sampler=" << int(rs.sampler) << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)
     << " shading=" << int(rs.shading) << " seed=" << rs.seed << " quirks=" << rs.cs184_light_quirk
     << rs.cs184_invisible_sky << rs.cs184_light_pdf << rs.cs184_materials;
   if (scene.environment)

@@ -143,18 +143,21 @@ TileSet load_tile_set(const std::filesystem::path& path) {
       !take(in, h.adaptive) || !take(in, h.png_truncate) || !take_stats(in, set.stats) || !take(in, count))
     throw bad("truncated header");
   const Region& a = h.area;
-  if (h.width < 1 || h.height < 1 || h.width > 16384 || h.height > 16384 || h.tile_size < 1 || a.x < 0 || a.y < 0 ||
+  if (h.width < 1 || h.height < 1 || int64_t(h.width) * h.height > kMaxImagePixels || h.tile_size < 1 ||
+      h.tile_size > kMaxTileSize || a.x < 0 || a.y < 0 ||
       a.width < 1 || a.height < 1 || int64_t(a.x) + a.width > h.width || int64_t(a.y) + a.height > h.height ||
       h.adaptive > 1 || h.png_truncate > 1)
     throw bad("image size, region or tile size out of range");
   TileGrid grid = h.grid();
-  if (count > grid.count()) throw bad("more tiles than the image has");
+  constexpr size_t kSmallestTile = 4 + 8 + 4 + 20;  // id, seconds, pixel count, one pixel
+  if (count > grid.count() || count > in.size() / kSmallestTile) throw bad("more tiles than the image has");
   std::vector<bool> seen(grid.count(), false);
-  set.tiles.resize(count);
-  for (TilePixels& t : set.tiles) {
+  for (uint32_t k = 0; k < count; ++k) {  // read before allocated: the file's size bounds what is allocated
+    TilePixels t;
     if (!take_tile(in, grid, h.max_samples, t)) throw bad("a tile that does not fit the image or holds impossible values");
     if (seen[t.tile]) throw bad("tile " + std::to_string(t.tile) + " appears twice");
     seen[t.tile] = true;
+    set.tiles.push_back(std::move(t));
   }
   if (!in.empty()) throw bad("trailing bytes after the last tile");
   return set;
@@ -162,12 +165,8 @@ TileSet load_tile_set(const std::filesystem::path& path) {
 
 Film assemble_film(const TileSetHeader& h, const std::vector<const TilePixels*>& tiles) {
   TileGrid grid = h.grid();
-  Film film(h.width, h.height, h.max_samples);
   std::vector<bool> have(grid.count(), false);
-  for (const TilePixels* t : tiles) {
-    paste_tile(film, grid, *t);
-    have[t->tile] = true;
-  }
+  for (const TilePixels* t : tiles) have[t->tile] = true;
   auto missing = std::find(have.begin(), have.end(), false);
   if (missing != have.end()) {
     size_t n = size_t(std::count(have.begin(), have.end(), false));
@@ -176,6 +175,8 @@ Film assemble_film(const TileSetHeader& h, const std::vector<const TilePixels*>&
                      std::to_string(missing - have.begin()) + " at " + std::to_string(r.x) + "," + std::to_string(r.y) +
                      ")");
   }
+  Film film(h.width, h.height, h.max_samples);
+  for (const TilePixels* t : tiles) paste_tile(film, grid, *t);
   return film;
 }
 

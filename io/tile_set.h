@@ -18,6 +18,12 @@
 
 namespace pt {
 
+/// The largest tile edge: a tile's 20 B per pixel stay under MPI's int
+/// message size.
+inline constexpr int kMaxTileSize = 4096;
+/// The most pixels an image may have (as the command line allows).
+inline constexpr int64_t kMaxImagePixels = int64_t(1) << 27;
+
 /// The render region (the whole image without -p) cut into square tiles,
 /// numbered row by row; edge tiles are cut short.
 struct TileGrid {

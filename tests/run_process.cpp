@@ -27,6 +27,10 @@ namespace {
     rlimit lim{memory_limit, memory_limit};
     setrlimit(RLIMIT_AS, &lim);
   }
+  // Standard input is /dev/null: a child that reads it (mpirun forwards it to
+  // rank 0) must not consume the input of whatever runs the tests.
+  int null_fd = open("/dev/null", O_RDONLY);
+  if (null_fd < 0 || dup2(null_fd, 0) < 0) _exit(126);
   if (chdir(cwd.c_str()) != 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(126);
   execv(program.c_str(), argv.data());
   _exit(127);

@@ -12,9 +12,11 @@
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <thread>
 
+#include "io/binary_io.h"
 #include "io/scene_error.h"
 #include "io/tile_set.h"
 #include "run_process.h"
@@ -138,6 +140,28 @@ TEST(TileSet, RefusesDamagedAndImpossibleFiles) {
   outside.header.area = Region{15, 0, 10, 10};  // past the image's right edge
   save_tile_set(dir / "outside.tiles", outside);
   refused("outside2.tiles", file_bytes(dir / "outside.tiles"), "out of range");
+  TileSet huge_tile = set;
+  huge_tile.header.tile_size = 2147473648;  // the grid's arithmetic would overflow
+  save_tile_set(dir / "huge.tiles", huge_tile);
+  refused("huge2.tiles", file_bytes(dir / "huge.tiles"), "out of range");
+  TileSet huge_image = set;
+  huge_image.header.width = huge_image.header.height = 16384;  // 2^28 pixels: more than any render makes
+  save_tile_set(dir / "big.tiles", huge_image);
+  refused("big2.tiles", file_bytes(dir / "big.tiles"), "out of range");
+
+  // A tile count larger than the file could hold is refused before anything is allocated for it.
+  TileSet no_tiles = set;
+  no_tiles.tiles.clear();
+  no_tiles.header.width = no_tiles.header.height = 8192;
+  no_tiles.header.area = Region{0, 0, 8192, 8192};
+  no_tiles.header.tile_size = 1;
+  save_tile_set(dir / "count.tiles", no_tiles);
+  std::string bytes = file_bytes(dir / "count.tiles");
+  uint32_t count = 1u << 26;
+  std::memcpy(bytes.data() + bytes.size() - 12, &count, 4);  // the count precedes the checksum
+  uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
+  std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
+  refused("count2.tiles", bytes, "more tiles than the image has");
 }
 
 /// The flags of the small renders below.
@@ -183,6 +207,37 @@ TEST(Shards, MergedInAnyOrderAndWithAnyTileSizeEqualTheSingleProcessImage) {
   }
 }
 
+/// Tiles are rendered by the same engines as whole images: every engine and
+/// lighting mode, with adaptive sampling, gives the same bits either way.
+TEST(Shards, EveryEngineAndLightingModeMergesToTheSingleProcessImage) {
+  ScratchDir dir;
+  const std::vector<std::vector<std::string>> variants = {
+      {"--engine", "megakernel"},
+      {"--engine", "reference"},
+      {"--direct", "mis"},
+      {"-H"},
+      {"--sampler", "sobol", "--rr-mode", "throughput"},
+      {"--normals"},
+      {"--bounces", "indirect"},
+      {"-b", "0.05", "-d", "3"},
+  };
+  int k = 0;
+  for (const auto& variant : variants) {
+    std::string tag = std::to_string(k++);
+    auto base = with(small("8"), variant);
+    ASSERT_EQ(run_process(kBinary, with(base, {"-t", "2", "-f", "one" + tag + ".png"}), dir.path(), kTimeout).exit_code, 0);
+    for (int i = 0; i < 2; ++i)
+      ASSERT_EQ(run_process(kBinary, with(base, {"-t", "1", "--tile", "20", "--shard", std::to_string(i) + "/2", "-f",
+                                                 "p" + tag + "_" + std::to_string(i) + ".tiles"}),
+                            dir.path(), kTimeout).exit_code, 0);
+    auto r = run_process(kBinary, {"--merge", "m" + tag + ".png", "p" + tag + "_1.tiles", "p" + tag + "_0.tiles", "-q"},
+                         dir.path(), kTimeout);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    SCOPED_TRACE(testing::PrintToString(variant));
+    expect_same_file(dir / ("one" + tag + ".png"), dir / ("m" + tag + ".png"));
+  }
+}
+
 TEST(Shards, ARegionMergesToTheSingleProcessRegion) {
   ScratchDir dir;
   auto base = with(kSmall, {"-p", "9", "5", "40", "30"});
@@ -202,6 +257,8 @@ TEST(Shards, MismatchedMissingOrRepeatedPartsAreRefused) {
   auto s8 = small("8");
   ASSERT_EQ(run_process(kBinary, with(s8, {"--tile", "16", "--shard", "1/2", "-f", "other.tiles"}), dir.path(), kTimeout).exit_code, 0);
   ASSERT_EQ(run_process(kBinary, with(kSmall, {"--tile", "32", "--shard", "1/2", "-f", "tile32.tiles"}), dir.path(), kTimeout).exit_code, 0);
+  ASSERT_EQ(run_process(kBinary, with(kSmall, {"--tile", "16", "--sampler", "sobol", "--shard", "1/2", "-f", "sobol.tiles"}),
+                        dir.path(), kTimeout).exit_code, 0);
   struct Case {
     std::vector<std::string> parts;
     std::string message;
@@ -209,6 +266,7 @@ TEST(Shards, MismatchedMissingOrRepeatedPartsAreRefused) {
   const Case cases[] = {
       {{"p0.tiles", "other.tiles"}, "error: other.tiles: a part of a different render than p0.tiles (its s=8 against s=16)"},
       {{"p0.tiles", "tile32.tiles"}, "error: tile32.tiles: a part of a different render than p0.tiles (tile size 32 against 16)"},
+      {{"p0.tiles", "sobol.tiles"}, "error: sobol.tiles: a part of a different render than p0.tiles (its sampler=1 against sampler=0)"},
       {{"p0.tiles"}, "error: --merge: 6 of 12 tiles are missing (the first is tile 1 at 16,0); give every shard's part"},
       {{"p0.tiles", "p1.tiles", "p0.tiles"}, "error: p0.tiles: tile 0 is also in p0.tiles (the same shard given twice?)"},
       {{"p0.tiles", "missing.tiles"}, "missing.tiles"},
@@ -231,7 +289,7 @@ TEST(Shards, BadShardFlagsAreRefused) {
       {{"--shard", "3"}, "error: --shard: expected I/N (this job's share I of N, counted from 0), got \"3\""},
       {{"--shard", "3/3"}, "error: --shard: shard index I of I/N must be an integer from 0 to 2, got \"3\""},
       {{"--shard", "0/0"}, "error: --shard: shard count N of I/N must be an integer from 1 to 1048576, got \"0\""},
-      {{"--tile", "0"}, "error: --tile: tile size must be an integer from 1 to 16384, got \"0\""},
+      {{"--tile", "0"}, "error: --tile: tile size must be an integer from 1 to 4096, got \"0\""},
       {{"--merge", "out.png"}, "error: --merge: needs 2 values (OUT PART...), got 1"},
       {{"scene.dae", "--merge", "out.png", "a.tiles"}, "error: --merge assembles parts made by --shard and takes no scene"},
       {{"--shard", "0/2", "--checkpoint", "c.bin"}, "error: --shard renders its share in one go"},
@@ -336,7 +394,7 @@ std::vector<pid_t> pids_of_rank(int rank, const std::filesystem::path& cwd) {
 TEST(Mpi, AKilledRankEndsTheJobAndTheCheckpointResumesToTheUninterruptedImage) {
   PT_REQUIRE_MPI();
   ScratchDir dir;
-  auto base = with(small("1024", false), {"--tile", "8"});
+  auto base = with(small("2048", false), {"--tile", "8"});
   std::atomic<bool> killed{false};
   std::chrono::steady_clock::time_point kill_time;
   std::thread killer([&] {
@@ -377,7 +435,7 @@ TEST(Mpi, SigintToMpirunLeavesAPartialImageAndNoFinalOne) {
   PT_REQUIRE_MPI();
   ScratchDir dir;
   auto r = run_process(PT_MPIEXEC, mpirun(2, with(small("100000", false), {"-t", "1", "-f", "out.png"})),
-                       dir.path(), kTimeout, 0, 2.0);
+                       dir.path(), kTimeout, 0, 4.0);  // well after start-up, long before the end
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("interrupted: wrote the "), std::string::npos) << r.err;
   EXPECT_TRUE(std::filesystem::exists(dir / "out.partial.png")) << r.err;

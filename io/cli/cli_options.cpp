@@ -14,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "io/tile_set.h"
 #include "option_values.h"
 
 namespace pt::cli {
@@ -100,7 +101,7 @@ void Converter::convert(const RawValues& raw) {
   if (app_.count("-b") > 0 && error.empty()) o_.lens_radius = lens_radius;
   if (app_.count("-d") > 0 && error.empty()) o_.focal_distance = focal_distance;
   integer("--leaf-size", "leaf size", raw.leaf_size, 1, 64, o_.max_leaf_size);
-  integer("--tile", "tile size", raw.tile, 1, kMaxDimension, o_.tile_size);
+  integer("--tile", "tile size", raw.tile, 1, pt::kMaxTileSize, o_.tile_size);
   if (app_.count("--shard") > 0 && error.empty()) {
     size_t slash = raw.shard.find('/');
     if (slash == std::string::npos) {

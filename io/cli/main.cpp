@@ -153,12 +153,17 @@ void prepare(const cli::Options& o, const cli::MpiJob& job, Prepared& p) {
                                                                std::to_string(o.shard_index) + "-of-" +
                                                                std::to_string(o.shard_count) + ".tiles")
                                        : default_output(o, scene);
-    if (o.shard_count > 0) check_writable(p.output);
-    else if (job.rank() == 0) cli::check_outputs_writable(o, p.output);
+    if (job.rank() != 0) {
+      // only rank 0 writes
+    } else if (o.shard_count > 0) {
+      check_writable(p.output);
+    } else {
+      cli::check_outputs_writable(o, p.output);
+    }
   }
   p.camera = render_camera(o, scene);
   if (tiled) p.tiles = TileSet{cli::tile_set_header(o, scene, p.camera), {}, {}};
-  if (!o.checkpoint_file.empty() && job.rank() == 0) {
+  if (!o.checkpoint_file.empty() && job.rank() == 0 && o.convergence_csv.empty()) {
     p.checkpoint.path = o.checkpoint_file;
     p.checkpoint.every = o.checkpoint_every;
     check_writable(p.checkpoint.path);
@@ -183,6 +188,7 @@ void prepare(const cli::Options& o, const cli::MpiJob& job, Prepared& p) {
                     p.checkpoint.resumed->samples_done);
     }
   }
+  install_stop_handlers();  // from here on a stop ends the render cleanly, during the BVH build too
   p.engine = std::make_unique<cli::EngineRunner>(o, scene, p.camera);
 }
 
@@ -301,11 +307,11 @@ int run(const cli::Options& o, const cli::MpiJob& job) {
       return 1;
     }
   }
-  install_stop_handlers();
   if (!o.convergence_csv.empty()) return cli::run_convergence(o, *p.engine, g_cancel);
   if (o.shard_count > 0 && job.rank() != 0) return 0;  // a shard is one process's work
   if (o.shard_count > 0)
-    return cli::run_shard(o, p.loaded.scene, p.camera, *p.engine, p.output, g_cancel, g_signal ? g_signal : SIGINT);
+    return cli::run_shard(o, p.loaded.scene, p.camera, *p.engine, p.output, g_cancel) ? 0
+                                                                                     : 128 + (g_signal ? g_signal : SIGINT);
 #if PT_WITH_MPI
   if (job.size() > 1) return render_across_ranks(o, job, p);
 #endif

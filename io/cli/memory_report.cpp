@@ -80,8 +80,9 @@ void add_render_memory(MemoryReport& r, const RenderSettings& rs, const Scene& s
     add(r, "wavefront: wave queues", exactly(e.queue_bytes), MemoryScale::kThread);
   }
   if (e.engine != Engine::kReference) {
-    add(r, "pass driver: pixel accumulators", exactly(pixels * sizeof(PixelAccumulator)), MemoryScale::kPixel);
-    add(r, "pass driver: pixel lists (order, active, todo)", exactly(3 * pixels * sizeof(uint32_t)),
+    const size_t rendered = size_t(rs.area().width) * rs.area().height;  // the accumulators cover the region
+    add(r, "pass driver: pixel accumulators", exactly(rendered * sizeof(PixelAccumulator)), MemoryScale::kPixel);
+    add(r, "pass driver: pixel lists (order, active, todo)", exactly(3 * rendered * sizeof(uint32_t)),
         MemoryScale::kPixel);
   }
   add(r, "film: radiance", bytes_of(out.film.radiance), MemoryScale::kPixel);

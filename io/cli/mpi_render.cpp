@@ -12,7 +12,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "io/binary_io.h"
@@ -70,12 +72,15 @@ void send_tile_number(int rank, int64_t t) {
 }
 
 /// Rank 0's second thread: answers every request until each other rank has
-/// been told there are no more tiles, or rank 0 is stopped.
-void serve_tiles(const MpiJob& job, const TileWork& work, TileQueue& queue, Collector& collector) {
+/// been told there are no more tiles, or rank 0 is stopped or failed. Throws
+/// if a rank sends something other than the tile it was given.
+void serve_tiles(const MpiJob& job, const TileWork& work, TileQueue& queue, Collector& collector,
+                 const std::atomic<bool>& failed) {
   int ranks_working = job.size() - 1;
+  std::vector<int64_t> given(size_t(job.size()), -1);  // the tile each rank is rendering
   std::string buffer;
   while (ranks_working > 0) {
-    if (work.cancel && work.cancel->load()) return;
+    if ((work.cancel && work.cancel->load()) || failed.load()) return;
     int waiting = 0;
     MPI_Status status;
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &status);
@@ -92,13 +97,13 @@ void serve_tiles(const MpiJob& job, const TileWork& work, TileQueue& queue, Coll
       TilePixels tile;
       RenderStats stats;
       if (!take_tile(in, work.grid, uint32_t(work.settings.samples_per_pixel), tile) || !take_stats(in, stats) ||
-          !in.empty()) {
-        std::fprintf(stderr, "error: rank %d sent a tile rank 0 cannot read; ending the job\n", status.MPI_SOURCE);
-        job.abort(1);
-      }
+          !in.empty() || int64_t(tile.tile) != given[size_t(status.MPI_SOURCE)])
+        throw std::runtime_error("rank " + std::to_string(status.MPI_SOURCE) +
+                                 " sent a result that is not the tile it was given; ending the job");
       collector.add(std::move(tile), stats);
     }
     int64_t next = queue.next();
+    given[size_t(status.MPI_SOURCE)] = next;
     send_tile_number(status.MPI_SOURCE, next);
     if (next < 0) --ranks_working;
   }
@@ -139,17 +144,36 @@ bool render_across_ranks(const MpiJob& job, const TileWork& work, TileSet& set,
   }
   TileQueue queue(work.grid, set);
   Collector collector(set, after_tile);
-  std::thread server([&] { serve_tiles(job, work, queue, collector); });
-  bool finished = true;
-  for (int64_t t; (t = queue.next()) >= 0;) {
-    std::optional<RenderedTile> tile = render_tile(*work.engine, work.settings, work.grid, uint32_t(t), work.cancel);
-    if (!tile) {
-      finished = false;
-      break;
+  // An exception in either thread (out of memory, a checkpoint that cannot be
+  // written, a bad message) stops both; it is rethrown once the second thread
+  // has left MPI, so the caller may report it and abort the job.
+  std::atomic<bool> failed{false};
+  std::exception_ptr server_error, render_error;
+  std::thread server([&] {
+    try {
+      serve_tiles(job, work, queue, collector, failed);
+    } catch (...) {
+      server_error = std::current_exception();
+      failed = true;
     }
-    collector.add(std::move(tile->pixels), tile->stats);
+  });
+  bool finished = true;
+  try {
+    for (int64_t t; !failed.load() && (t = queue.next()) >= 0;) {
+      std::optional<RenderedTile> tile = render_tile(*work.engine, work.settings, work.grid, uint32_t(t), work.cancel);
+      if (!tile) {
+        finished = false;
+        break;
+      }
+      collector.add(std::move(tile->pixels), tile->stats);
+    }
+  } catch (...) {
+    render_error = std::current_exception();
+    failed = true;
   }
   server.join();
+  if (render_error) std::rethrow_exception(render_error);
+  if (server_error) std::rethrow_exception(server_error);
   return finished && !(work.cancel && work.cancel->load());
 }
 

@@ -14,8 +14,8 @@
 
 namespace pt::cli {
 
-int run_shard(const Options& o, const Scene& scene, const Camera& camera, const EngineRunner& engine,
-              const std::filesystem::path& output, const std::atomic<bool>& cancel, int stop_signal) {
+bool run_shard(const Options& o, const Scene& scene, const Camera& camera, const EngineRunner& engine,
+               const std::filesystem::path& output, const std::atomic<bool>& cancel) {
   TileSet set;
   set.header = tile_set_header(o, scene, camera);
   TileGrid grid = set.header.grid();
@@ -29,7 +29,7 @@ int run_shard(const Options& o, const Scene& scene, const Camera& camera, const 
       bar.finish();
       std::fprintf(stderr, "interrupted: shard %d/%d not written (a shard is written whole; run it again)\n",
                    o.shard_index, o.shard_count);
-      return 128 + stop_signal;
+      return false;
     }
     set.stats += tile->stats;
     set.stats.seconds += tile->stats.seconds;
@@ -42,7 +42,7 @@ int run_shard(const Options& o, const Scene& scene, const Camera& camera, const 
     std::printf("Shard %d/%d: %zu of %u tiles in %.3f s, %llu rays; wrote %s\n", o.shard_index, o.shard_count,
                 set.tiles.size(), grid.count(), set.stats.seconds, static_cast<unsigned long long>(set.stats.rays()),
                 output.c_str());
-  return 0;
+  return true;
 }
 
 namespace {

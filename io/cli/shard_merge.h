@@ -14,10 +14,10 @@
 
 namespace pt::cli {
 
-/// Renders this shard's tiles and writes them to `output`. Returns the exit
-/// code (128 + signal if `cancel` stopped it: nothing is written then).
-int run_shard(const Options& o, const Scene& scene, const Camera& camera, const EngineRunner& engine,
-              const std::filesystem::path& output, const std::atomic<bool>& cancel, int stop_signal);
+/// Renders this shard's tiles and writes them to `output`. Returns false if
+/// `cancel` stopped it (nothing is written then).
+bool run_shard(const Options& o, const Scene& scene, const Camera& camera, const EngineRunner& engine,
+               const std::filesystem::path& output, const std::atomic<bool>& cancel);
 
 /// Assembles o.merge's parts into its output (throws InputError on parts of
 /// different renders, a tile in two parts, or tiles that no part holds).
