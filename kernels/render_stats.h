@@ -16,6 +16,12 @@ struct RenderStats {
   double seconds = 0.0;
 
   uint64_t rays() const { return camera_rays + bounce_rays + shadow_rays; }
+  /// Adds another render's counts and its time (renders one after another, or
+  /// tiles whose busy time is summed); += leaves seconds alone (threads of one render).
+  void add_render(const RenderStats& o) {
+    *this += o;
+    seconds += o.seconds;
+  }
   RenderStats& operator+=(const RenderStats& o) {
     camera_rays += o.camera_rays; bounce_rays += o.bounce_rays; shadow_rays += o.shadow_rays;
     intersection_tests += o.intersection_tests; samples += o.samples; invalid_samples += o.invalid_samples;

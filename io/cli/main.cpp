@@ -65,13 +65,18 @@ struct Checkpointing {
   std::optional<Accumulation> resumed;
   std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
 
+  /// Whether `every` seconds have passed since the last save (then counts one from now).
+  bool due() {
+    auto now = std::chrono::steady_clock::now();
+    if (path.empty() || std::chrono::duration<double>(now - last).count() < every) return false;
+    last = now;
+    return true;
+  }
+
   void attach(RenderControl& control) {
     if (resumed) control.resume_from = &*resumed;
     control.on_pass = [this](const Accumulation& acc) {
-      auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last).count() < every) return;
-      save_checkpoint(path, fingerprint, acc);
-      last = now;
+      if (due()) save_checkpoint(path, fingerprint, acc);
     };
     control.on_interrupt = [this](const Accumulation& acc) { save_checkpoint(path, fingerprint, acc); };
   }
@@ -206,7 +211,7 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
 
   if (out.cancelled) {
     std::filesystem::path partial = cli::partial_path(p.output);
-    write_image(partial, out.film, o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest);
+    write_image(partial, out.film, cli::png_quantization(o));
     std::fprintf(stderr, "interrupted: wrote the image so far to %s%s\n", partial.c_str(),
                  p.checkpoint.path.empty() ? "" : (" and the state to " + p.checkpoint.path.string()).c_str());
     return 128 + (g_signal ? g_signal : SIGINT);
@@ -228,14 +233,9 @@ int render_across_ranks(const cli::Options& o, const cli::MpiJob& job, Prepared&
   TileSet& set = *p.tiles;
   const TileGrid grid = set.header.grid();
   cli::ProgressBar bar(job.rank() == 0 && !o.quiet);
-  auto last_save = std::chrono::steady_clock::now();
   auto after_tile = [&](const TileSet& s) {
     bar.update(double(s.tiles.size()) / grid.count());
-    auto now = std::chrono::steady_clock::now();
-    if (!p.checkpoint.path.empty() && std::chrono::duration<double>(now - last_save).count() >= p.checkpoint.every) {
-      save_tile_set(p.checkpoint.path, s);
-      last_save = now;
-    }
+    if (p.checkpoint.due()) save_tile_set(p.checkpoint.path, s);
   };
   const size_t resumed = set.tiles.size();
   cli::TileWork work{p.engine.get(), o.settings, grid, &g_cancel};
@@ -253,7 +253,7 @@ int render_across_ranks(const cli::Options& o, const cli::MpiJob& job, Prepared&
     // MPI_Finalize for ranks that are gone).
     std::filesystem::path partial = cli::partial_path(p.output);
     if (!p.checkpoint.path.empty()) save_tile_set(p.checkpoint.path, set);
-    write_image(partial, film, o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest);
+    write_image(partial, film, cli::png_quantization(o));
     std::fprintf(stderr, "interrupted: wrote the %zu of %u tiles finished to %s%s\n", set.tiles.size(), grid.count(),
                  partial.c_str(),
                  p.checkpoint.path.empty() ? "" : (" and to the checkpoint " + p.checkpoint.path.string()).c_str());

@@ -51,8 +51,7 @@ class Collector {
   void add(TilePixels&& t, const RenderStats& stats) {
     std::lock_guard lock(mutex_);
     set_.tiles.push_back(std::move(t));
-    set_.stats += stats;
-    set_.stats.seconds += stats.seconds;
+    set_.stats.add_render(stats);
     if (after_) after_(set_);
   }
 

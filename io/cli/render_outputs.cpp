@@ -9,6 +9,10 @@
 
 namespace pt::cli {
 
+PngQuantization png_quantization(const Options& o) {
+  return o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest;
+}
+
 std::filesystem::path partial_path(const std::filesystem::path& p) {
   std::filesystem::path r = p;
   r.replace_filename(p.stem().string() + ".partial" + p.extension().string());
@@ -24,7 +28,7 @@ void check_outputs_writable(const Options& o, const std::filesystem::path& outpu
 
 void write_outputs(const Options& o, const std::filesystem::path& output, const Film& film, const Camera& camera) {
   const RenderSettings& rs = o.settings;
-  write_image(output, film, o.cs184_png ? PngQuantization::kTruncate : PngQuantization::kNearest);
+  write_image(output, film, png_quantization(o));
   if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), film);
   if (!o.variance_file.empty()) write_variance_image(o.variance_file, film);
   if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);

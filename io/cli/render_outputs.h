@@ -7,11 +7,15 @@
 #include <string>
 
 #include "cli_options.h"
+#include "io/image_output.h"
 #include "kernels/camera.h"
 #include "kernels/film.h"
 #include "kernels/render_job.h"
 
 namespace pt::cli {
+
+/// How PNG values are quantised: truncated with --cs184-compat, else to the nearest.
+PngQuantization png_quantization(const Options& o);
 
 /// out.png -> out.partial.png
 std::filesystem::path partial_path(const std::filesystem::path& p);

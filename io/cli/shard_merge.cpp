@@ -31,8 +31,7 @@ bool run_shard(const Options& o, const Scene& scene, const Camera& camera, const
                    o.shard_index, o.shard_count);
       return false;
     }
-    set.stats += tile->stats;
-    set.stats.seconds += tile->stats.seconds;
+    set.stats.add_render(tile->stats);
     set.tiles.push_back(std::move(tile->pixels));
     bar.update(double(set.tiles.size()) / std::max<uint32_t>(1, mine));
   }
@@ -88,8 +87,7 @@ int run_merge(const Options& o) {
   RenderStats stats;
   for (const TileSet& set : parts) {
     for (const TilePixels& t : set.tiles) tiles.push_back(&t);
-    stats += set.stats;
-    stats.seconds += set.stats.seconds;
+    stats.add_render(set.stats);
   }
   Film film;
   try {
