@@ -31,7 +31,7 @@ void run_tracer(const TracerEntry& t, RayKind kind, size_t n, int threads, Hit* 
 
 SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions& options)
     : label_(std::move(label)), scene_(std::move(scene)) {
-  bvh4_ = std::make_unique<SceneBvh4>(scene_);
+  bvh4_ = std::make_unique<SceneBvh4>(scene_, options.bvh4);
   sets_[0] = primary_rays(scene_, options.width, options.height);
   std::vector<Hit> first(sets_[0].rays.size());
   run_chunks(first.size(), 2, [&](size_t b, size_t e) {

@@ -25,6 +25,7 @@ struct FixtureOptions {
   int width = 1024, height = 768;  ///< primary rays (multiples of 4)
   size_t brute_force_rays = 16384; ///< brute force traces this prefix of each set
   size_t brute_force_max_triangles = 3000;
+  Bvh4Options bvh4;                ///< how the BVH4 under test is built
 };
 
 /// Traces rays [begin, end) of a ray set: closest hits into `hits` or, for the

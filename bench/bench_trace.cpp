@@ -6,15 +6,18 @@
 // rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
 // 4/8/16 on primary rays) built with high and default quality; plus build
 // times and memory. Every tracer is validated ray by ray before it is timed.
-//   bench_trace [--quick] [--export-rays DIR] [benchmark flags]
+//   bench_trace [--quick] [--export-rays DIR] [--collapse-costs=N,L,B,M] [benchmark flags]
 // --quick: two small scenes and fewer rays (a smoke run); --export-rays:
-// write every scene's triangles and ray sets for trace_rays, then exit.
+// write every scene's triangles and ray sets for trace_rays, then exit;
+// --collapse-costs: the BVH4 collapse's node, leaf and block costs and
+// largest leaf (bvh4_collapse.h; default 1,0.7,0.3,16), for tuning.
 // 1-thread rates are over thread CPU time, 2-thread rates over wall time.
 // The kernels run at the level PT_ISA names (default: the widest the CPU
 // runs), Embree restricted to the same instruction set; the JSON context
 // names both.
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -41,7 +44,7 @@ std::vector<SceneSpec> scene_list(bool quick) {
   if (quick) return {{"CBgems", "CBgems.dae", 0, true}, {"CBbunny", "CBbunny.dae"}};
   return {{"CBgems", "CBgems.dae", 0, true}, {"teapot", "teapot.dae", 0, true}, {"CBcoil", "CBcoil.dae"},
           {"CBbunny", "CBbunny.dae"},        {"bunny", "bunny.dae"},              {"CBbunny_x4", "CBbunny.dae", 1},
-          {"CBbunny_x16", "CBbunny.dae", 2}, {"CBbunny_x64", "CBbunny.dae", 3}};
+          {"CBbunny_x16", "CBbunny.dae", 2}, {"CBbunny_x64", "CBbunny.dae", 3}, {"CBbunny_x256", "CBbunny.dae", 4}};
 }
 
 FixtureOptions g_options;
@@ -85,7 +88,7 @@ void trace_benchmark(benchmark::State& state, SceneSpec spec, RayKind kind, std:
 void build_bvh4_benchmark(benchmark::State& state, SceneSpec spec, int threads) {
   SceneFixture* f = fixture(spec);
   if (!f) return state.SkipWithError(("scene file absent: " + spec.file).c_str());
-  Bvh4Options o;
+  Bvh4Options o = g_options.bvh4;
   o.threads = threads;
   Bvh4BuildStats stats;
   for (auto _ : state) {
@@ -186,14 +189,22 @@ int export_rays(const std::vector<SceneSpec>& specs, const std::filesystem::path
 int main(int argc, char** argv) {
   using namespace pt::bench;
   bool quick = false;
-  std::string export_dir;
+  std::string export_dir, collapse;
   std::vector<char*> rest = {argv[0]};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--export-rays") && i + 1 < argc) export_dir = argv[++i];
+    else if (!std::strncmp(argv[i], "--collapse-costs=", 17)) collapse = argv[i] + 17;
     else rest.push_back(argv[i]);
   }
   if (quick) g_options = {256, 192, 4096, 3000};
+  if (!collapse.empty()) {
+    pt::CollapseCosts& c = g_options.bvh4.collapse;
+    if (std::sscanf(collapse.c_str(), "%f,%f,%f,%u", &c.node, &c.leaf, &c.block, &c.max_leaf_size) != 4) {
+      std::cerr << "error: --collapse-costs wants NODE,LEAF,BLOCK,MAX_LEAF_SIZE, not '" << collapse << "'\n";
+      return 2;
+    }
+  }
   std::vector<SceneSpec> specs = scene_list(quick);
   if (!export_dir.empty()) return export_rays(specs, export_dir);
   int n = static_cast<int>(rest.size());

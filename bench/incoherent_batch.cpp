@@ -2,6 +2,7 @@
 // BVH4's range queries in parallel.
 #include "incoherent_batch.h"
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -52,10 +53,14 @@ void trace_batch(std::span<const Ray> rays, std::span<Out> out, bool reorder, co
   }
   std::vector<uint32_t> order = coherent_order(rays, bounds);
   RayBuffer sorted = gather_in_order(rays, order);
-  for_each_chunk(rays.size(), [&](size_t b, size_t e) {
+  for_each_chunk(rays.size(), [&](size_t begin, size_t end) {
+    // oneTBB's partitioner may hand out ranges longer than the grain size.
     Out found[kChunk];
-    each(std::span<const Ray>(&sorted[b], e - b), std::span<Out>(found, e - b));
-    for (size_t k = b; k < e; ++k) out[order[k]] = found[k - b];
+    for (size_t b = begin; b < end; b += kChunk) {
+      size_t e = std::min(end, b + kChunk);
+      each(std::span<const Ray>(&sorted[b], e - b), std::span<Out>(found, e - b));
+      for (size_t k = b; k < e; ++k) out[order[k]] = found[k - b];
+    }
   });
 }
 

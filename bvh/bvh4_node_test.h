@@ -1,8 +1,9 @@
 // The 4-wide slab test of one Bvh4Node against one ray, with the per-ray
 // constants computed once: reciprocal direction (tiny components clamped, so
-// no 0 * inf NaN), origin times reciprocal (one explicit FMA per plane: the
-// build turns off implicit contraction), and the byte offsets of the near and
-// far planes per axis (no branch on direction signs).
+// no 0 * inf NaN), origin times reciprocal (one fused multiply-subtract per
+// plane where the CPU has FMA: the build turns off implicit contraction), and
+// the byte offsets of the near and far planes per axis (no branch on
+// direction signs).
 #pragma once
 
 #include <cmath>
@@ -49,12 +50,12 @@ PT_ALWAYS_INLINE uint32_t intersect_node(const Bvh4Node& node, const NodeRay& r,
                                          const vfloat4& tmax, vfloat4& tnear) {
   const char* base = reinterpret_cast<const char*>(&node);
   auto plane = [base](uint32_t offset) { return vfloat4::load_aligned(reinterpret_cast<const float*>(base + offset)); };
-  vfloat4 tnx = xsimd::fms(plane(r.near[0]), r.rdir[0], r.org_rdir[0]);
-  vfloat4 tny = xsimd::fms(plane(r.near[1]), r.rdir[1], r.org_rdir[1]);
-  vfloat4 tnz = xsimd::fms(plane(r.near[2]), r.rdir[2], r.org_rdir[2]);
-  vfloat4 tfx = xsimd::fms(plane(r.far[0]), r.rdir[0], r.org_rdir[0]);
-  vfloat4 tfy = xsimd::fms(plane(r.far[1]), r.rdir[1], r.org_rdir[1]);
-  vfloat4 tfz = xsimd::fms(plane(r.far[2]), r.rdir[2], r.org_rdir[2]);
+  vfloat4 tnx = fused_mul_sub(plane(r.near[0]), r.rdir[0], r.org_rdir[0]);
+  vfloat4 tny = fused_mul_sub(plane(r.near[1]), r.rdir[1], r.org_rdir[1]);
+  vfloat4 tnz = fused_mul_sub(plane(r.near[2]), r.rdir[2], r.org_rdir[2]);
+  vfloat4 tfx = fused_mul_sub(plane(r.far[0]), r.rdir[0], r.org_rdir[0]);
+  vfloat4 tfy = fused_mul_sub(plane(r.far[1]), r.rdir[1], r.org_rdir[1]);
+  vfloat4 tfz = fused_mul_sub(plane(r.far[2]), r.rdir[2], r.org_rdir[2]);
   tnear = xsimd::max(xsimd::max(tnx, tny), xsimd::max(tnz, tmin));
   vfloat4 tfar = xsimd::min(xsimd::min(tfx, tfy), xsimd::min(tfz, tmax));
   return movemask(tnear <= tfar);

@@ -137,6 +137,19 @@ inline vfloat4 keep_rounded(vfloat4 v) {
   return x;
 }
 
+/// x * y - z, rounded once where the CPU fuses multiply and add (x86 with
+/// FMA3, aarch64), else rounded twice. xsimd's fms on the 4-wide SSE type
+/// never fuses (its SSE4.2 arch has no FMA), and implicit contraction is off.
+inline vfloat4 fused_mul_sub(vfloat4 x, vfloat4 y, vfloat4 z) {
+#if defined(__FMA__)
+  return _mm_fmsub_ps(x, y, z);
+#elif defined(__x86_64__)
+  return _mm_sub_ps(_mm_mul_ps(x, y), z);
+#else
+  return vfmaq_f32(vnegq_f32(z), x, y);
+#endif
+}
+
 /// Hints the cache to load the 64-byte line holding p.
 inline void prefetch_l1(const void* p) { __builtin_prefetch(p, 0, 3); }
 
