@@ -107,23 +107,75 @@ inline uint32_t push_sorted_pop_nearest(const Bvh4& bvh, const Bvh4Node& node, u
   return nearest;
 }
 
-/// Tests every block of a leaf; a hit nearer than tmax shortens tmax and fills `hit`.
+/// Tests every block of a leaf; a hit nearer than tmax shortens tmax and fills
+/// `hit`. With AVX2 and Moller-Trumbore leaves, blocks go two at a time in
+/// eight lanes, with the result of testing them one after the other: when
+/// both blocks of a pair have hits, the second is tested again under the
+/// first one's tmax (rare: a pair's two blocks are hit at nearly one t).
 template <TriangleForm F, class C>
 inline void intersect_leaf_closest(const TriangleBlock4* blocks, uint32_t count,
                                    const typename BlockTest<F>::RayConstants& br, float& tmax, vfloat4& vtmax,
                                    Hit& hit, C& counters) {
-  for (uint32_t i = 0; i < count; ++i) {
-    count_block(counters, blocks[i]);
-    BlockHits h;
-    if (BlockTest<F>::test(blocks[i], br, vtmax, h) == 0) continue;
+  auto take = [&](const TriangleBlock4& b, const BlockHits& h) {
     tmax = reduce_min(h.t);
     vtmax = vfloat4(tmax);
     uint32_t lane = std::countr_zero(movemask(h.t == vtmax));
     alignas(16) float u[4], v[4];
     h.u.store_aligned(u);
     h.v.store_aligned(v);
-    hit = {tmax, u[lane], v[lane], blocks[i].prim[lane]};
+    hit = {tmax, u[lane], v[lane], b.prim[lane]};
+  };
+  uint32_t i = 0;
+#if XSIMD_WITH_AVX2
+  if constexpr (F == TriangleForm::kMollerTrumbore) {
+    if (count >= 2) {
+      const MtPairRay wide = widen(br);
+      for (; i + 2 <= count; i += 2) {
+        count_block(counters, blocks[i]);
+        count_block(counters, blocks[i + 1]);
+        MtLanes<vfloat8> pair;
+        uint32_t m = intersect_block_pair_mt(blocks + i, wide, vfloat8(tmax), pair);
+        if (m & 15u) take(blocks[i], block_of_pair(pair, 0));
+        if (m >> 4 == 0) continue;
+        BlockHits h = block_of_pair(pair, 1);
+        if ((m & 15u) == 0 || BlockTest<F>::test(blocks[i + 1], br, vtmax, h) != 0) take(blocks[i + 1], h);
+      }
+    }
   }
+#endif
+  for (; i < count; ++i) {
+    count_block(counters, blocks[i]);
+    BlockHits h;
+    if (BlockTest<F>::test(blocks[i], br, vtmax, h) != 0) take(blocks[i], h);
+  }
+}
+
+/// Whether any triangle of a leaf lies on the ray within [tmin, tmax); blocks
+/// go two at a time as in intersect_leaf_closest.
+template <TriangleForm F, class C>
+inline bool leaf_occludes(const TriangleBlock4* blocks, uint32_t count,
+                          const typename BlockTest<F>::RayConstants& br, const vfloat4& tmax, C& counters) {
+  uint32_t i = 0;
+#if XSIMD_WITH_AVX2
+  if constexpr (F == TriangleForm::kMollerTrumbore) {
+    if (count >= 2) {
+      const MtPairRay wide = widen(br);
+      const vfloat8 wide_tmax = _mm256_set_m128(tmax, tmax);
+      for (; i + 2 <= count; i += 2) {
+        count_block(counters, blocks[i]);
+        count_block(counters, blocks[i + 1]);
+        MtLanes<vfloat8> pair;
+        if (intersect_block_pair_mt(blocks + i, wide, wide_tmax, pair) != 0) return true;
+      }
+    }
+  }
+#endif
+  for (; i < count; ++i) {
+    count_block(counters, blocks[i]);
+    BlockHits h;
+    if (BlockTest<F>::test(blocks[i], br, tmax, h) != 0) return true;
+  }
+  return false;
 }
 
 /// Closest triangle hit with ray.tmin <= t < ray.tmax. On a hit fills `hit`
@@ -204,15 +256,7 @@ inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
       }
       prefetch_first_child(bvh, cur);
     }
-    {
-      const TriangleBlock4* blocks = bvh.leaf_blocks(cur);
-      uint32_t count = bvh4_ref::leaf_block_count(cur);
-      for (uint32_t i = 0; i < count; ++i) {
-        count_block(counters, blocks[i]);
-        BlockHits h;
-        if (BlockTest<F>::test(blocks[i], br, tmax, h) != 0) return true;
-      }
-    }
+    if (leaf_occludes<F>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), br, tmax, counters)) return true;
   pop:
     if (sp == stack) return false;
     cur = *--sp;

@@ -20,13 +20,53 @@ struct BlockHits {
   vfloat4 t, u, v;
 };
 
-/// Per-ray constants of the Moller-Trumbore block test.
-struct MtBlockRay {
-  vfloat4 org[3], dir[3], tmin;
-  PT_ALWAYS_INLINE explicit MtBlockRay(const Ray& r) : tmin(r.tmin) {
-    for (int a = 0; a < 3; ++a) { org[a] = vfloat4(r.org[a]); dir[a] = vfloat4(r.dir[a]); }
+/// Per-ray constants of the Moller-Trumbore block test, in lanes of type V.
+template <class V> struct MtRayLanes {
+  V org[3], dir[3], tmin;
+  MtRayLanes() = default;
+  PT_ALWAYS_INLINE explicit MtRayLanes(const Ray& r) : tmin(r.tmin) {
+    for (int a = 0; a < 3; ++a) { org[a] = V(r.org[a]); dir[a] = V(r.dir[a]); }
   }
 };
+using MtBlockRay = MtRayLanes<vfloat4>;
+
+/// Moller-Trumbore in lanes of any width: the lanes whose sign-adjusted
+/// numerators put the hit inside the triangle and inside [tmin, tmax); t, u,
+/// v are divided out only when `any` says some lane passes. Every operation is
+/// the same per lane whatever the width, so all widths give the same bits.
+template <class V> struct MtLanes {
+  V t, u, v;                          ///< t = +inf where there is no hit
+  typename V::batch_bool_type hit;
+};
+template <class V, class AnyFn>
+PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const MtRayLanes<V>& r,
+                               const V& tmax, MtLanes<V>& out, AnyFn any) {
+  V px = r.dir[1] * e2[2] - r.dir[2] * e2[1];
+  V py = r.dir[2] * e2[0] - r.dir[0] * e2[2];
+  V pz = r.dir[0] * e2[1] - r.dir[1] * e2[0];
+  V det = e1[0] * px + e1[1] * py + e1[2] * pz;
+  V tx = r.org[0] - v0[0];
+  V ty = r.org[1] - v0[1];
+  V tz = r.org[2] - v0[2];
+  V u_num = tx * px + ty * py + tz * pz;
+  V qx = ty * e1[2] - tz * e1[1];
+  V qy = tz * e1[0] - tx * e1[2];
+  V qz = tx * e1[1] - ty * e1[0];
+  V v_num = r.dir[0] * qx + r.dir[1] * qy + r.dir[2] * qz;
+  V t_num = e2[0] * qx + e2[1] * qy + e2[2] * qz;
+  V sign = xsimd::bitofsign(det);
+  V u_abs = u_num ^ sign, v_abs = v_num ^ sign, abs_det = det ^ sign, t_abs = t_num ^ sign;
+  auto valid = (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= abs_det) & (det != V(0.0f)) &
+               (t_abs >= abs_det * r.tmin) & (t_abs < abs_det * tmax);
+  if (!any(valid)) return false;
+  V inv = V(1.0f) / det;
+  out.t = t_num * inv;
+  out.u = u_num * inv;
+  out.v = v_num * inv;
+  out.hit = valid & (out.t >= r.tmin) & (out.t < tmax);  // the division may round onto a bound
+  out.t = xsimd::select(out.hit, out.t, V(INFINITY));
+  return any(out.hit);
+}
 
 /// Shared tail: lanes whose sign-adjusted numerators put the hit inside the
 /// triangle and inside [tmin, tmax); divides only when some lane passes.
@@ -49,26 +89,62 @@ PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 
 /// Moller-Trumbore on a block in kMollerTrumbore form.
 PT_ALWAYS_INLINE uint32_t intersect_block_mt(const TriangleBlock4& b, const MtBlockRay& r, const vfloat4& tmax,
                                              BlockHits& h) {
-  vfloat4 e1x = vfloat4::load_aligned(b.r1[0]), e1y = vfloat4::load_aligned(b.r1[1]), e1z = vfloat4::load_aligned(b.r1[2]);
-  vfloat4 e2x = vfloat4::load_aligned(b.r2[0]), e2y = vfloat4::load_aligned(b.r2[1]), e2z = vfloat4::load_aligned(b.r2[2]);
-  vfloat4 px = r.dir[1] * e2z - r.dir[2] * e2y;
-  vfloat4 py = r.dir[2] * e2x - r.dir[0] * e2z;
-  vfloat4 pz = r.dir[0] * e2y - r.dir[1] * e2x;
-  vfloat4 det = e1x * px + e1y * py + e1z * pz;
-  vfloat4 tx = r.org[0] - vfloat4::load_aligned(b.v0[0]);
-  vfloat4 ty = r.org[1] - vfloat4::load_aligned(b.v0[1]);
-  vfloat4 tz = r.org[2] - vfloat4::load_aligned(b.v0[2]);
-  vfloat4 u_num = tx * px + ty * py + tz * pz;
-  vfloat4 qx = ty * e1z - tz * e1y;
-  vfloat4 qy = tz * e1x - tx * e1z;
-  vfloat4 qz = tx * e1y - ty * e1x;
-  vfloat4 v_num = r.dir[0] * qx + r.dir[1] * qy + r.dir[2] * qz;
-  vfloat4 t_num = e2x * qx + e2y * qy + e2z * qz;
-  vfloat4 sign = xsimd::bitofsign(det);
-  vfloat4 u_abs = u_num ^ sign, v_abs = v_num ^ sign;
-  vbool4 inside = (u_abs >= vfloat4(0.0f)) & (v_abs >= vfloat4(0.0f)) & (u_abs + v_abs <= (det ^ sign));
-  return finish_block_hits(det, t_num, u_num, v_num, inside, r.tmin, tmax, h);
+  vfloat4 v0[3], e1[3], e2[3];
+  for (int a = 0; a < 3; ++a) {
+    v0[a] = vfloat4::load_aligned(b.v0[a]);
+    e1[a] = vfloat4::load_aligned(b.r1[a]);
+    e2[a] = vfloat4::load_aligned(b.r2[a]);
+  }
+  MtLanes<vfloat4> lanes;
+  if (!mt_lanes(v0, e1, e2, r, tmax, lanes, [](vbool4 m) { return movemask(m) != 0; })) return 0;
+  h = {lanes.t, lanes.u, lanes.v};
+  return movemask(lanes.hit);
 }
+
+#if XSIMD_WITH_AVX2
+/// Two consecutive blocks as eight lanes (AVX2 and up): lanes 0-3 are the
+/// first block's, 4-7 the second's. Lane for lane the same bits as two calls
+/// of intersect_block_mt with the same tmax.
+using vfloat8 = xsimd::batch<float, xsimd::avx2>;
+using MtPairRay = MtRayLanes<vfloat8>;
+
+/// The 4-wide ray constants repeated in both halves.
+PT_ALWAYS_INLINE MtPairRay widen(const MtBlockRay& r) {
+  MtPairRay w;
+  auto twice = [](vfloat4 x) { return vfloat8(_mm256_set_m128(x, x)); };
+  for (int a = 0; a < 3; ++a) { w.org[a] = twice(r.org[a]); w.dir[a] = twice(r.dir[a]); }
+  w.tmin = twice(r.tmin);
+  return w;
+}
+
+/// The lanes of one block of a pair: 0 the first, 1 the second.
+PT_ALWAYS_INLINE BlockHits block_of_pair(const MtLanes<vfloat8>& h, int which) {
+  auto half = [which](vfloat8 x) -> vfloat4 {
+    return which == 0 ? _mm256_castps256_ps128(x) : _mm256_extractf128_ps(x, 1);
+  };
+  return {half(h.t), half(h.u), half(h.v)};
+}
+
+/// Row `row` (a pointer into the first block) of both blocks.
+PT_ALWAYS_INLINE vfloat8 block_pair_row(const float* row) {
+  constexpr size_t kNext = sizeof(TriangleBlock4) / sizeof(float);
+  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(row)), _mm_load_ps(row + kNext), 1);
+}
+
+/// Moller-Trumbore on blocks b[0] and b[1] at once; the mask of lanes hit.
+PT_ALWAYS_INLINE uint32_t intersect_block_pair_mt(const TriangleBlock4* b, const MtPairRay& r, const vfloat8& tmax,
+                                                  MtLanes<vfloat8>& h) {
+  vfloat8 v0[3], e1[3], e2[3];
+  for (int a = 0; a < 3; ++a) {
+    v0[a] = block_pair_row(b->v0[a]);
+    e1[a] = block_pair_row(b->r1[a]);
+    e2[a] = block_pair_row(b->r2[a]);
+  }
+  auto any = [](xsimd::batch_bool<float, xsimd::avx2> m) { return _mm256_movemask_ps(m) != 0; };
+  if (!mt_lanes(v0, e1, e2, r, tmax, h, any)) return 0;
+  return static_cast<uint32_t>(_mm256_movemask_ps(h.hit));
+}
+#endif
 
 /// Per-ray constants of the watertight test: the dominant direction axis
 /// becomes z (kz), the shear maps the direction onto +z.

@@ -9,19 +9,22 @@ tested per ray. Pairs share a round, so load that comes and goes on the
 machine hits both sides alike. Writes the raw runs to OUT.json.
 
     python3 scripts/bench_ab.py A/bench_trace B/bench_trace FILTER [rounds] [OUT]
-e.g.
+
+A and B are commands: a binary, or a binary with its flags in one quoted
+argument ('build/bench/bench_trace --collapse-costs=1,0.7,0.6,16'). E.g.
     python3 scripts/bench_ab.py /tmp/main/build/bench/bench_trace build/bench/bench_trace \\
         'trace/CBbunny_x64/(diffuse|shadow)/(bvh4|embree_high_single)/' 5 out/ab
 """
 import json
+import shlex
 import statistics
 import subprocess
 import sys
 from collections import defaultdict
 
 
-def run(binary, flt, out):
-    cmd = [binary, f"--benchmark_filter={flt}", "--benchmark_min_time=0.3",
+def run(command, flt, out):
+    cmd = shlex.split(command) + [f"--benchmark_filter={flt}", "--benchmark_min_time=0.3",
            f"--benchmark_out={out}", "--benchmark_out_format=json"]
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
     with open(out) as f:
