@@ -197,7 +197,11 @@ int main(int argc, char** argv) {
     else if (!std::strncmp(argv[i], "--collapse-costs=", 17)) collapse = argv[i] + 17;
     else rest.push_back(argv[i]);
   }
-  if (quick) g_options = {256, 192, 4096, 3000};
+  if (quick) {
+    g_options.width = 256;
+    g_options.height = 192;
+    g_options.brute_force_rays = 4096;
+  }
   if (!collapse.empty()) {
     pt::CollapseCosts& c = g_options.bvh4.collapse;
     if (std::sscanf(collapse.c_str(), "%f,%f,%f,%u", &c.node, &c.leaf, &c.block, &c.max_leaf_size) != 4) {
