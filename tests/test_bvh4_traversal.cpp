@@ -1,13 +1,18 @@
 // SceneBvh4 against brute force on every shared CS184 scene and the built-in
 // scene: closest hits (same primitive, or the same t on exact ties) and
 // occlusion answers for camera, uniformly random, diffuse-bounce and shadow
-// rays, with both triangle tests; counted and uncounted queries agree.
+// rays, with both triangle tests; counted and uncounted queries agree; every
+// instruction-set level breaks ties between leaf blocks alike.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
 #include "bvh/scene_bvh4.h"
+#include "kernels/isa.h"
 #include "test_bvh4_support.h"
 #include "test_support.h"
 
@@ -135,6 +140,67 @@ TEST(Bvh4Counters, OneTriangleIsOneLeafAndOneTest) {
   EXPECT_EQ(c.primitives, 1u);  // padding lanes are not counted
   EXPECT_TRUE(bvh.occluded(Ray{{0.25f, 0.25f, 1.0f}, 0.0f, {0, 0, -1}, 1.5f}, c));
   EXPECT_EQ(c.primitives, 2u);
+}
+
+// One leaf of two blocks, four triangles in each, every ray through all
+// eight. In one plane, all eight are hit at exactly one t, and the first
+// triangle of the first block must win (a later hit must be strictly nearer);
+// with the second four eight float steps nearer (2^-20 at t = 1), one of those
+// must win. Every level this CPU runs must find the same hits bit for bit:
+// the levels that test both blocks at once (AVX2 and up) as the one-block
+// loop (SSE4.2).
+TEST(Bvh4Levels, BlockPairsFindWhatBlocksOneAfterTheOtherFind) {
+  for (bool nearer : {false, true}) {
+    // Thin right triangles along x, right angles at x = 0 (k < 4) or at x = 10
+    // (k >= 4): sorted by centroid x (about 3 against 7) they fill one block each.
+    Scene s;
+    for (int k = 0; k < 8; ++k) {
+      float z = nearer && k >= 4 ? 0x1p-20f : 0.0f;
+      float corner = k < 4 ? 0.0f : 10.0f, length = 10.0f - 0.5f * float(k % 4);
+      float tip = k < 4 ? length : 10.0f - length;
+      uint32_t v = static_cast<uint32_t>(s.positions.size());
+      s.positions.insert(s.positions.end(), {{corner, 0.0f, z}, {tip, 0.0f, z}, {corner, 0.4f, z}});
+      s.triangles.push_back({v, v + 1, v + 2});
+      s.triangle_material.push_back(0);
+    }
+    s.bounds = compute_scene_bounds(s);
+    Bvh4Options one_leaf;
+    one_leaf.collapse.node = 1e6f;  // no inner node pays: all eight triangles in one leaf
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> along(0.0f, 1.0f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 2000; ++i)
+      rays.push_back({{3.0f + 3.0f * along(rng), 0.05f * along(rng), 1.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, INFINITY});
+    std::vector<Hit> first;
+    std::set<uint32_t> winners;
+    Isa first_isa{};
+    for (Isa isa : compiled_isas()) {
+      if (!cpu_supports(isa)) continue;
+      SceneBvh4 bvh(s, one_leaf, isa);
+      ASSERT_TRUE(bvh4_ref::is_leaf(bvh.bvh().root));
+      ASSERT_EQ(bvh4_ref::leaf_block_count(bvh.bvh().root), 2u);
+      for (int lane = 0; lane < 4; ++lane) {  // otherwise both blocks would not be hit
+        ASSERT_LT(bvh.bvh().blocks[0].prim[lane], 4u);
+        ASSERT_GE(bvh.bvh().blocks[1].prim[lane], 4u);
+      }
+      std::vector<Hit> hits(rays.size());
+      for (size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_TRUE(bvh.intersect(rays[i], hits[i])) << isa_name(isa);
+        EXPECT_TRUE(bvh.occluded(rays[i]));
+        if (nearer) EXPECT_GE(hits[i].prim, 4u) << isa_name(isa) << ", ray " << i;
+        winners.insert(hits[i].prim);
+      }
+      if (first.empty()) { first = hits; first_isa = isa; continue; }
+      size_t differ = 0;
+      for (size_t i = 0; i < rays.size(); ++i) differ += std::memcmp(&hits[i], &first[i], sizeof(Hit)) != 0;
+      EXPECT_EQ(differ, 0u) << isa_name(isa) << " against " << isa_name(first_isa)
+                            << (nearer ? ", second four nearer" : ", all in one plane");
+    }
+    if (!nearer) {  // exact ties: the first triangle of the first block, as in one block after the other
+      EXPECT_EQ(winners.size(), 1u);
+      EXPECT_EQ(*winners.begin(), SceneBvh4(s, one_leaf, first_isa).bvh().blocks[0].prim[0]);
+    }
+  }
 }
 
 }  // namespace
