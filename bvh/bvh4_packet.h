@@ -161,9 +161,11 @@ struct PacketEntry {
 };
 
 /// Tests the four children; pushes all hit children but the nearest (far
-/// first) and returns the nearest, or kEmptyRef when none is hit.
+/// first), starting to load them, and returns the nearest, or kEmptyRef when
+/// none is hit.
 template <bool kUniform>
-inline uint32_t visit_node(const Bvh4Node& node, const RayPacket& p, uint32_t& lanes, PacketEntry*& sp) {
+inline uint32_t visit_node(const Bvh4& bvh, const Bvh4Node& node, const RayPacket& p, uint32_t& lanes,
+                           PacketEntry*& sp) {
   PacketEntry hit[4];
   int n = 0;
   for (int c = 0; c < 4; ++c) {
@@ -177,7 +179,10 @@ inline uint32_t visit_node(const Bvh4Node& node, const RayPacket& p, uint32_t& l
   for (int i = 1; i < n; ++i)  // insertion sort, far first
     for (int j = i; j > 0 && hit[j - 1].dist < hit[j].dist; --j) std::swap(hit[j - 1], hit[j]);
   if (n == 0) return bvh4_ref::kEmptyRef;
-  for (int i = 0; i + 1 < n; ++i) *sp++ = hit[i];
+  for (int i = 0; i + 1 < n; ++i) {
+    *sp++ = hit[i];
+    prefetch_ref(bvh, hit[i].ref);
+  }
   lanes = hit[n - 1].lanes;
   return hit[n - 1].ref;
 }
@@ -197,7 +202,7 @@ inline uint32_t bvh4_occluded_packet(const Bvh4& bvh, const RayPacket& p) {
   uint32_t cur = bvh.root, lanes = p.active;
   for (;;) {
     while (!bvh4_ref::is_leaf(cur)) {
-      cur = visit_node<kUniform>(bvh.node(cur), p, lanes, sp);
+      cur = visit_node<kUniform>(bvh, bvh.node(cur), p, lanes, sp);
       if (cur == bvh4_ref::kEmptyRef) goto pop;
     }
     for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n && lanes; ++i) {
@@ -231,7 +236,7 @@ inline void bvh4_intersect_packet(const Bvh4& bvh, RayPacket& p, PacketHits& h) 
   uint32_t cur = bvh.root, lanes = p.active;
   for (;;) {
     while (!bvh4_ref::is_leaf(cur)) {
-      cur = visit_node<kUniform>(bvh.node(cur), p, lanes, sp);
+      cur = visit_node<kUniform>(bvh, bvh.node(cur), p, lanes, sp);
       if (cur == bvh4_ref::kEmptyRef) goto pop;
     }
     for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n; ++i) {
