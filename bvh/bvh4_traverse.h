@@ -133,7 +133,7 @@ inline void intersect_leaf_closest(const TriangleBlock4* blocks, uint32_t count,
       for (; i + 2 <= count; i += 2) {
         count_block(counters, blocks[i]);
         count_block(counters, blocks[i + 1]);
-        MtLanes<vfloat8> pair;
+        LaneHits<vfloat8> pair;
         uint32_t m = intersect_block_pair_mt(blocks + i, wide, vfloat8(tmax), pair);
         if (m & 15u) take(blocks[i], block_of_pair(pair, 0));
         if (m >> 4 == 0) continue;
@@ -164,7 +164,7 @@ inline bool leaf_occludes(const TriangleBlock4* blocks, uint32_t count,
       for (; i + 2 <= count; i += 2) {
         count_block(counters, blocks[i]);
         count_block(counters, blocks[i + 1]);
-        MtLanes<vfloat8> pair;
+        LaneHits<vfloat8> pair;
         if (intersect_block_pair_mt(blocks + i, wide, wide_tmax, pair) != 0) return true;
       }
     }

@@ -30,17 +30,48 @@ template <class V> struct MtRayLanes {
 };
 using MtBlockRay = MtRayLanes<vfloat4>;
 
-/// Moller-Trumbore in lanes of any width: the lanes whose sign-adjusted
-/// numerators put the hit inside the triangle and inside [tmin, tmax); t, u,
-/// v are divided out only when `any` says some lane passes. Every operation is
-/// the same per lane whatever the width, so all widths give the same bits.
-template <class V> struct MtLanes {
-  V t, u, v;                          ///< t = +inf where there is no hit
+/// t, u, v of a test in lanes of any width; t = +inf where there is no hit.
+template <class V> struct LaneHits {
+  V t, u, v;
   typename V::batch_bool_type hit;
 };
+
+/// Shared tail of both triangle tests, in lanes of any width: the lanes whose
+/// sign-adjusted numerators put the hit inside the triangle and inside
+/// [tmin, tmax); t, u, v are divided out only when `any` says some lane
+/// passes. Every operation is the same per lane whatever the width, so all
+/// widths give the same bits.
+template <class V, class B, class AnyFn>
+PT_ALWAYS_INLINE bool finish_lanes(const V& det, const V& t_num, const V& u_num, const V& v_num, const B& inside,
+                                   const V& tmin, const V& tmax, LaneHits<V>& out, AnyFn any) {
+  V sign = xsimd::bitofsign(det);
+  V abs_det = det ^ sign;
+  V t_abs = t_num ^ sign;
+  B valid = inside & (det != V(0.0f)) & (t_abs >= abs_det * tmin) & (t_abs < abs_det * tmax);
+  if (!any(valid)) return false;
+  V inv = V(1.0f) / det;
+  out.t = t_num * inv;
+  out.u = u_num * inv;
+  out.v = v_num * inv;
+  out.hit = valid & (out.t >= tmin) & (out.t < tmax);  // the division may round onto a bound
+  out.t = xsimd::select(out.hit, out.t, V(INFINITY));
+  return any(out.hit);
+}
+
+/// finish_lanes for one block: the mask of lanes hit, their t, u, v in `h`.
+PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 u_num, vfloat4 v_num,
+                                            vbool4 inside, const vfloat4& tmin, const vfloat4& tmax, BlockHits& h) {
+  LaneHits<vfloat4> lanes;
+  if (!finish_lanes(det, t_num, u_num, v_num, inside, tmin, tmax, lanes, [](vbool4 m) { return movemask(m) != 0; }))
+    return 0;
+  h = {lanes.t, lanes.u, lanes.v};
+  return movemask(lanes.hit);
+}
+
+/// Moller-Trumbore in lanes of any width (finish_lanes decides the hits).
 template <class V, class AnyFn>
 PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const MtRayLanes<V>& r,
-                               const V& tmax, MtLanes<V>& out, AnyFn any) {
+                               const V& tmax, LaneHits<V>& out, AnyFn any) {
   V px = r.dir[1] * e2[2] - r.dir[2] * e2[1];
   V py = r.dir[2] * e2[0] - r.dir[0] * e2[2];
   V pz = r.dir[0] * e2[1] - r.dir[1] * e2[0];
@@ -55,35 +86,9 @@ PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)
   V v_num = r.dir[0] * qx + r.dir[1] * qy + r.dir[2] * qz;
   V t_num = e2[0] * qx + e2[1] * qy + e2[2] * qz;
   V sign = xsimd::bitofsign(det);
-  V u_abs = u_num ^ sign, v_abs = v_num ^ sign, abs_det = det ^ sign, t_abs = t_num ^ sign;
-  auto valid = (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= abs_det) & (det != V(0.0f)) &
-               (t_abs >= abs_det * r.tmin) & (t_abs < abs_det * tmax);
-  if (!any(valid)) return false;
-  V inv = V(1.0f) / det;
-  out.t = t_num * inv;
-  out.u = u_num * inv;
-  out.v = v_num * inv;
-  out.hit = valid & (out.t >= r.tmin) & (out.t < tmax);  // the division may round onto a bound
-  out.t = xsimd::select(out.hit, out.t, V(INFINITY));
-  return any(out.hit);
-}
-
-/// Shared tail: lanes whose sign-adjusted numerators put the hit inside the
-/// triangle and inside [tmin, tmax); divides only when some lane passes.
-PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 u_num, vfloat4 v_num,
-                                            vbool4 inside, const vfloat4& tmin, const vfloat4& tmax, BlockHits& h) {
-  vfloat4 sign = xsimd::bitofsign(det);
-  vfloat4 abs_det = det ^ sign;
-  vfloat4 t_abs = t_num ^ sign;
-  vbool4 valid = inside & (det != vfloat4(0.0f)) & (t_abs >= abs_det * tmin) & (t_abs < abs_det * tmax);
-  if (movemask(valid) == 0) return 0;
-  vfloat4 inv = vfloat4(1.0f) / det;
-  h.t = t_num * inv;
-  h.u = u_num * inv;
-  h.v = v_num * inv;
-  vbool4 hit = valid & (h.t >= tmin) & (h.t < tmax);  // the division may round onto a bound
-  h.t = xsimd::select(hit, h.t, vfloat4(INFINITY));
-  return movemask(hit);
+  V u_abs = u_num ^ sign, v_abs = v_num ^ sign;
+  auto inside = (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= (det ^ sign));
+  return finish_lanes(det, t_num, u_num, v_num, inside, r.tmin, tmax, out, any);
 }
 
 /// Moller-Trumbore on a block in kMollerTrumbore form.
@@ -95,7 +100,7 @@ PT_ALWAYS_INLINE uint32_t intersect_block_mt(const TriangleBlock4& b, const MtBl
     e1[a] = vfloat4::load_aligned(b.r1[a]);
     e2[a] = vfloat4::load_aligned(b.r2[a]);
   }
-  MtLanes<vfloat4> lanes;
+  LaneHits<vfloat4> lanes;
   if (!mt_lanes(v0, e1, e2, r, tmax, lanes, [](vbool4 m) { return movemask(m) != 0; })) return 0;
   h = {lanes.t, lanes.u, lanes.v};
   return movemask(lanes.hit);
@@ -118,7 +123,7 @@ PT_ALWAYS_INLINE MtPairRay widen(const MtBlockRay& r) {
 }
 
 /// The lanes of one block of a pair: 0 the first, 1 the second.
-PT_ALWAYS_INLINE BlockHits block_of_pair(const MtLanes<vfloat8>& h, int which) {
+PT_ALWAYS_INLINE BlockHits block_of_pair(const LaneHits<vfloat8>& h, int which) {
   auto half = [which](vfloat8 x) -> vfloat4 {
     return which == 0 ? _mm256_castps256_ps128(x) : _mm256_extractf128_ps(x, 1);
   };
@@ -133,7 +138,7 @@ PT_ALWAYS_INLINE vfloat8 block_pair_row(const float* row) {
 
 /// Moller-Trumbore on blocks b[0] and b[1] at once; the mask of lanes hit.
 PT_ALWAYS_INLINE uint32_t intersect_block_pair_mt(const TriangleBlock4* b, const MtPairRay& r, const vfloat8& tmax,
-                                                  MtLanes<vfloat8>& h) {
+                                                  LaneHits<vfloat8>& h) {
   vfloat8 v0[3], e1[3], e2[3];
   for (int a = 0; a < 3; ++a) {
     v0[a] = block_pair_row(b->v0[a]);
