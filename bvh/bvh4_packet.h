@@ -4,8 +4,10 @@
 // any active ray are visited nearest first, and the stack holds (node, rays)
 // pairs. When the packet agrees on the direction signs (the usual case for
 // camera rays) the slab test reads only near and far planes, as the single-ray
-// test does. Moller-Trumbore leaves only; for incoherent rays the single-ray
-// traversal (bvh4_traverse.h) is faster.
+// test does. A subtree that fewer than kPacketMinRays of the packet's rays
+// enter is traversed by each of them alone (tiny triangles split packets near
+// the leaves). Moller-Trumbore leaves only; for incoherent rays the
+// single-ray traversal (bvh4_traverse.h) is faster.
 #pragma once
 
 #include <bit>
@@ -27,6 +29,7 @@ namespace pt {
 /// K rays in SoA form with the per-packet constants of the slab test.
 struct RayPacket {
   vfloatK org[3], dir[3], rdir[3], org_rdir[3], tmin, tmax;
+  const Ray* rays = nullptr;  ///< the rays of the lanes, for single-ray traversal of sparse subtrees
   uint32_t active = 0;   ///< lanes that trace (requested and traceable)
   bool uniform = false;  ///< all active lanes share the sign of each direction component
   uint32_t near[3] = {}, far[3] = {};  ///< plane rows when uniform
@@ -45,6 +48,7 @@ __attribute__((optimize("no-tree-vectorize")))
 #endif
 inline RayPacket load_ray_packet(const Ray* rays, uint32_t lanes) {
   RayPacket p;
+  p.rays = rays;
   if (lanes == 0) return p;
   // Transposed through the stack: 8 scalar copies per ray and 8 aligned
   // vector loads cost a fraction of 8 gathers (slow on AMD's cores).
@@ -155,6 +159,48 @@ inline uint32_t occluders_in_packet(const TriangleBlock4& b, int lane, uint32_t 
   return m & lane_mask((t >= p.tmin) & (t < p.tmax));
 }
 
+/// Rays a packet must have in a subtree to traverse it as a packet: with
+/// fewer, each goes on through the subtree alone (bvh4_traverse.h), where a
+/// node test costs one 4-wide test instead of four K-wide ones and a leaf one
+/// test per block instead of one per triangle.
+inline constexpr int kPacketMinRays = kLanes == 16 ? 4 : kLanes == 8 ? 3 : 2;
+
+/// Closest hits of the rays in `lanes` below `ref`, ray by ray, each under its
+/// packet's current tmax; p.tmax and h take the hits found.
+inline void intersect_rays_below(const Bvh4& bvh, uint32_t ref, uint32_t lanes, RayPacket& p, PacketHits& h) {
+  alignas(64) float t[kLanes], u[kLanes], v[kLanes];
+  alignas(64) int32_t prim[kLanes];
+  p.tmax.store_aligned(t);
+  h.u.store_aligned(u);
+  h.v.store_aligned(v);
+  h.prim.store_aligned(prim);
+  bool found = false;
+  NoCounters counters;
+  for (uint32_t m = lanes; m != 0; m &= m - 1) {
+    uint32_t i = std::countr_zero(m);
+    Hit hit{t[i], u[i], v[i], static_cast<uint32_t>(prim[i])};
+    if (!bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.rays[i], hit, counters)) continue;
+    t[i] = hit.t, u[i] = hit.u, v[i] = hit.v, prim[i] = static_cast<int32_t>(hit.prim);
+    found = true;
+  }
+  if (!found) return;
+  p.tmax = vfloatK::load_aligned(t);
+  h.u = vfloatK::load_aligned(u);
+  h.v = vfloatK::load_aligned(v);
+  h.prim = vintK::load_aligned(prim);
+}
+
+/// The lanes of `lanes` whose rays are blocked below `ref`, ray by ray.
+inline uint32_t occluded_rays_below(const Bvh4& bvh, uint32_t ref, uint32_t lanes, const RayPacket& p) {
+  uint32_t blocked = 0;
+  NoCounters counters;
+  for (uint32_t m = lanes; m != 0; m &= m - 1) {
+    uint32_t i = std::countr_zero(m);
+    if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.rays[i], counters)) blocked |= 1u << i;
+  }
+  return blocked;
+}
+
 struct PacketEntry {
   uint32_t ref, lanes;
   float dist;
@@ -201,18 +247,22 @@ inline uint32_t bvh4_occluded_packet(const Bvh4& bvh, const RayPacket& p) {
   PacketEntry* sp = stack;
   uint32_t cur = bvh.root, lanes = p.active;
   for (;;) {
-    while (!bvh4_ref::is_leaf(cur)) {
+    while (!bvh4_ref::is_leaf(cur) && std::popcount(lanes) >= kPacketMinRays) {
       cur = visit_node<kUniform>(bvh, bvh.node(cur), p, lanes, sp);
       if (cur == bvh4_ref::kEmptyRef) goto pop;
     }
-    for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n && lanes; ++i) {
-      const TriangleBlock4& b = bvh.leaf_blocks(cur)[i];
-      for (int t = 0; t < 4 && lanes; ++t)
-        if (b.prim[t] != kInvalidId) {
-          uint32_t hit = occluders_in_packet(b, t, lanes, p);
-          blocked |= hit;
-          lanes &= ~hit;
-        }
+    if (std::popcount(lanes) < kPacketMinRays) {
+      blocked |= occluded_rays_below(bvh, cur, lanes, p);
+    } else {
+      for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n && lanes; ++i) {
+        const TriangleBlock4& b = bvh.leaf_blocks(cur)[i];
+        for (int t = 0; t < 4 && lanes; ++t)
+          if (b.prim[t] != kInvalidId) {
+            uint32_t hit = occluders_in_packet(b, t, lanes, p);
+            blocked |= hit;
+            lanes &= ~hit;
+          }
+      }
     }
     if (blocked == p.active) return blocked;
   pop:
@@ -235,14 +285,18 @@ inline void bvh4_intersect_packet(const Bvh4& bvh, RayPacket& p, PacketHits& h) 
   PacketEntry* sp = stack;
   uint32_t cur = bvh.root, lanes = p.active;
   for (;;) {
-    while (!bvh4_ref::is_leaf(cur)) {
+    while (!bvh4_ref::is_leaf(cur) && std::popcount(lanes) >= kPacketMinRays) {
       cur = visit_node<kUniform>(bvh, bvh.node(cur), p, lanes, sp);
       if (cur == bvh4_ref::kEmptyRef) goto pop;
     }
-    for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n; ++i) {
-      const TriangleBlock4& b = bvh.leaf_blocks(cur)[i];
-      for (int t = 0; t < 4; ++t)
-        if (b.prim[t] != kInvalidId) intersect_triangle_packet(b, t, lanes, p, h);
+    if (std::popcount(lanes) < kPacketMinRays) {
+      intersect_rays_below(bvh, cur, lanes, p, h);
+    } else {
+      for (uint32_t i = 0, n = bvh4_ref::leaf_block_count(cur); i < n; ++i) {
+        const TriangleBlock4& b = bvh.leaf_blocks(cur)[i];
+        for (int t = 0; t < 4; ++t)
+          if (b.prim[t] != kInvalidId) intersect_triangle_packet(b, t, lanes, p, h);
+      }
     }
   pop:
     do {  // skip entries that every ray of theirs has already passed

@@ -178,20 +178,20 @@ inline bool leaf_occludes(const TriangleBlock4* blocks, uint32_t count,
   return false;
 }
 
-/// Closest triangle hit with ray.tmin <= t < ray.tmax. On a hit fills `hit`
-/// (prim = input triangle index); on a miss leaves hit = {tmax, 0, 0, kInvalidId}.
+/// The closest hit below reference `start` (the root, or a subtree a packet
+/// hands over) of a traceable ray with ray.tmin <= t < hit.t: replaces `hit`
+/// when it finds one and says whether it did.
 template <TriangleForm F, class C>
-inline bool bvh4_intersect(const Bvh4& bvh, const Ray& ray, Hit& hit, C& counters) {
-  hit = Hit{ray.tmax, 0.0f, 0.0f, kInvalidId};
-  if (bvh.empty() || !ray_is_traceable(ray)) return false;
+inline bool bvh4_intersect_below(const Bvh4& bvh, uint32_t start, const Ray& ray, Hit& hit, C& counters) {
   const NodeRay nr(ray);
   const typename BlockTest<F>::RayConstants br(ray);
   const vfloat4 tmin(ray.tmin);
-  float tmax = ray.tmax;
+  const float t_start = hit.t;
+  float tmax = t_start;
   vfloat4 vtmax(tmax);
   Bvh4StackEntry stack[kBvh4StackSize];
   Bvh4StackEntry* sp = stack;
-  uint32_t cur = bvh.root;
+  uint32_t cur = start;
   for (;;) {
     while (!bvh4_ref::is_leaf(cur)) {
       counters.node();
@@ -223,23 +223,32 @@ inline bool bvh4_intersect(const Bvh4& bvh, const Ray& ray, Hit& hit, C& counter
     intersect_leaf_closest<F>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), br, tmax, vtmax, hit, counters);
   pop:
     do {
-      if (sp == stack) return hit.prim != kInvalidId;
+      if (sp == stack) return tmax < t_start;  // every hit taken is strictly nearer
       --sp;
     } while (sp->dist > tmax);
     cur = sp->ref;
   }
 }
 
-/// Whether any triangle lies on the ray with ray.tmin <= t < ray.tmax.
+/// Closest triangle hit with ray.tmin <= t < ray.tmax. On a hit fills `hit`
+/// (prim = input triangle index); on a miss leaves hit = {tmax, 0, 0, kInvalidId}.
 template <TriangleForm F, class C>
-inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
+inline bool bvh4_intersect(const Bvh4& bvh, const Ray& ray, Hit& hit, C& counters) {
+  hit = Hit{ray.tmax, 0.0f, 0.0f, kInvalidId};
   if (bvh.empty() || !ray_is_traceable(ray)) return false;
+  return bvh4_intersect_below<F>(bvh, bvh.root, ray, hit, counters);
+}
+
+/// Whether any triangle below reference `start` lies on a traceable ray with
+/// ray.tmin <= t < ray.tmax.
+template <TriangleForm F, class C>
+inline bool bvh4_occluded_below(const Bvh4& bvh, uint32_t start, const Ray& ray, C& counters) {
   const NodeRay nr(ray);
   const typename BlockTest<F>::RayConstants br(ray);
   const vfloat4 tmin(ray.tmin), tmax(ray.tmax);
   uint32_t stack[kBvh4StackSize];
   uint32_t* sp = stack;
-  uint32_t cur = bvh.root;
+  uint32_t cur = start;
   for (;;) {
     while (!bvh4_ref::is_leaf(cur)) {
       counters.node();
@@ -261,6 +270,13 @@ inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
     if (sp == stack) return false;
     cur = *--sp;
   }
+}
+
+/// Whether any triangle lies on the ray with ray.tmin <= t < ray.tmax.
+template <TriangleForm F, class C>
+inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
+  if (bvh.empty() || !ray_is_traceable(ray)) return false;
+  return bvh4_occluded_below<F>(bvh, bvh.root, ray, counters);
 }
 
 }  // namespace pt
