@@ -187,7 +187,9 @@ TEST(Bvh4Levels, BlockPairsFindWhatBlocksOneAfterTheOtherFind) {
       for (size_t i = 0; i < rays.size(); ++i) {
         ASSERT_TRUE(bvh.intersect(rays[i], hits[i])) << isa_name(isa);
         EXPECT_TRUE(bvh.occluded(rays[i]));
-        if (nearer) EXPECT_GE(hits[i].prim, 4u) << isa_name(isa) << ", ray " << i;
+        if (nearer) {
+          EXPECT_GE(hits[i].prim, 4u) << isa_name(isa) << ", ray " << i;
+        }
         winners.insert(hits[i].prim);
       }
       if (first.empty()) { first = hits; first_isa = isa; continue; }
