@@ -6,11 +6,12 @@
 // rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
 // 4/8/16 on primary rays) built with high and default quality; plus build
 // times and memory. Every tracer is validated ray by ray before it is timed.
-//   bench_trace [--quick] [--export-rays DIR] [--collapse-costs=N,L,B,M] [benchmark flags]
+//   bench_trace [--quick] [--export-rays DIR] [--collapse-costs=N,L,B,M] [--presplit=B] [benchmark flags]
 // --quick: two small scenes and fewer rays (a smoke run); --export-rays:
 // write every scene's triangles and ray sets for trace_rays, then exit;
 // --collapse-costs: the BVH4 collapse's node, leaf and block costs and
-// largest leaf (bvh4_collapse.h; default 1,0.7,0.3,16), for tuning.
+// largest leaf (bvh4_collapse.h; default 1,0.7,0.3,16), and --presplit the
+// pre-splitting budget (extra references per triangle, presplit.h), for tuning.
 // 1-thread rates are over thread CPU time, 2-thread rates over wall time.
 // The kernels run at the level PT_ISA names (default: the widest the CPU
 // runs), Embree restricted to the same instruction set; the JSON context
@@ -102,6 +103,7 @@ void build_bvh4_benchmark(benchmark::State& state, SceneSpec spec, int threads) 
   state.counters["blocks"] = stats.blocks;
   state.counters["depth"] = stats.depth;
   state.counters["sah_cost"] = stats.sah_cost;
+  state.counters["references"] = stats.references;
 }
 
 #ifdef PT_HAVE_EMBREE
@@ -189,12 +191,13 @@ int export_rays(const std::vector<SceneSpec>& specs, const std::filesystem::path
 int main(int argc, char** argv) {
   using namespace pt::bench;
   bool quick = false;
-  std::string export_dir, collapse;
+  std::string export_dir, collapse, presplit;
   std::vector<char*> rest = {argv[0]};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--export-rays") && i + 1 < argc) export_dir = argv[++i];
     else if (!std::strncmp(argv[i], "--collapse-costs=", 17)) collapse = argv[i] + 17;
+    else if (!std::strncmp(argv[i], "--presplit=", 11)) presplit = argv[i] + 11;
     else rest.push_back(argv[i]);
   }
   if (quick) {
@@ -206,6 +209,14 @@ int main(int argc, char** argv) {
     pt::CollapseCosts& c = g_options.bvh4.collapse;
     if (std::sscanf(collapse.c_str(), "%f,%f,%f,%u", &c.node, &c.leaf, &c.block, &c.max_leaf_size) != 4) {
       std::cerr << "error: --collapse-costs wants NODE,LEAF,BLOCK,MAX_LEAF_SIZE, not '" << collapse << "'\n";
+      return 2;
+    }
+  }
+  if (!presplit.empty()) {
+    float& budget = g_options.bvh4.presplit_budget;
+    if (std::sscanf(presplit.c_str(), "%f", &budget) != 1 || !(budget >= 0.0f && budget <= 16.0f)) {
+      std::cerr << "error: --presplit wants a budget from 0 to 16 extra references per triangle, not '" << presplit
+                << "'\n";
       return 2;
     }
   }

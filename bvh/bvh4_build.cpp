@@ -10,6 +10,7 @@
 
 #include "bvh4_collapse.h"
 #include "kernels/ray.h"
+#include "presplit.h"
 
 namespace pt {
 namespace {
@@ -69,8 +70,9 @@ void write_lane(TriangleBlock4& b, int lane, const float3& p0, const float3& p1,
   }
 }
 
-void fill_blocks(Bvh4& bvh, const std::vector<uint32_t>& block_prims, const Inputs& in,
-                 std::span<const float3> positions, std::span<const TriangleIndices> triangles) {
+/// Block lanes name build references; reference r covers kept triangle ref_triangle[r].
+void fill_blocks(Bvh4& bvh, const std::vector<uint32_t>& block_prims, const std::vector<uint32_t>& ref_triangle,
+                 const Inputs& in, std::span<const float3> positions, std::span<const TriangleIndices> triangles) {
   bvh.blocks.resize(block_prims.size() / 4);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, bvh.blocks.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k != r.end(); ++k) {
@@ -78,7 +80,7 @@ void fill_blocks(Bvh4& bvh, const std::vector<uint32_t>& block_prims, const Inpu
       for (int lane = 0; lane < 4; ++lane) {
         uint32_t p = block_prims[4 * k + lane];
         // Padding lanes repeat lane 0's v0 with zero edges: degenerate, never hit.
-        uint32_t id = in.ids[p != kInvalidId ? p : block_prims[4 * k]];
+        uint32_t id = in.ids[ref_triangle[p != kInvalidId ? p : block_prims[4 * k]]];
         const TriangleIndices& t = triangles[id];
         const float3& p0 = positions[t.v0];
         if (p == kInvalidId) write_lane(b, lane, p0, p0, p0, bvh.form);
@@ -106,10 +108,19 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     Inputs in = gather_inputs(positions, triangles);
-    Bvh2 bvh2 = build_bvh2_sah(in.boxes, in.centers, sah);
-    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse);
-    fill_blocks(bvh, topo.block_prims, in, positions, triangles);
-    if (stats) stats->triangles = static_cast<uint32_t>(in.ids.size());
+    std::vector<float3> corners(3 * in.ids.size());
+    for (size_t i = 0; i < in.ids.size(); ++i) {
+      const TriangleIndices& t = triangles[in.ids[i]];
+      corners[3 * i] = positions[t.v0], corners[3 * i + 1] = positions[t.v1], corners[3 * i + 2] = positions[t.v2];
+    }
+    SplitReferences refs = presplit_triangles(corners, options.presplit_budget);
+    Bvh2 bvh2 = build_bvh2_sah(refs.boxes, refs.centers, sah);
+    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse, refs.triangle);
+    fill_blocks(bvh, topo.block_prims, refs.triangle, in, positions, triangles);
+    if (stats) {
+      stats->triangles = static_cast<uint32_t>(in.ids.size());
+      stats->references = static_cast<uint32_t>(refs.triangle.size());
+    }
   });
   bvh.nodes = std::move(topo.nodes);
   bvh.nodes.shrink_to_fit();  // the collapse grew it node by node: keep no slack

@@ -1,4 +1,5 @@
-// Building the 4-wide triangle BVH: binned SAH binary build (bvh2_sah.cpp),
+// Building the 4-wide triangle BVH: optional pre-splitting (presplit.cpp),
+// binned SAH binary build (bvh2_sah.cpp),
 // collapse to four children (bvh4_collapse.cpp), then the leaf blocks filled
 // with precomputed triangles in BVH order. Reports build statistics.
 #pragma once
@@ -25,10 +26,13 @@ struct Bvh4Options {
   bool watertight = false;  ///< leaves for the watertight test instead of Moller-Trumbore
   SahBuildOptions sah{.bins = 32, .max_leaf_size = 1, .leaf_block = 4, .traversal_cost = 1.0f, .ray_length = 0.5f};
   CollapseCosts collapse{.node = 1.0f, .leaf = 0.7f, .block = 0.3f, .max_leaf_size = 16, .ray_length = 0.5f};
+  /// Extra build references per triangle that pre-splitting may add (presplit.h); 0: none.
+  float presplit_budget = 0.0f;
 };
 
 struct Bvh4BuildStats {
   uint32_t triangles = 0;      ///< in the BVH: those with a non-finite vertex or zero area are left out
+  uint32_t references = 0;     ///< build primitives: triangles plus the fragments pre-splitting added
   uint32_t nodes = 0, leaves = 0, blocks = 0;
   int depth = 0;               ///< inner-node levels
   double sah_cost = 0;         ///< node visits + block tests, area-weighted, root area 1

@@ -26,8 +26,8 @@ struct Plan {
 
 class Collapser {
  public:
-  Collapser(const Bvh2& bvh2, float padding, const CollapseCosts& costs)
-      : in_(bvh2), pad_(padding), costs_(costs), plans_(bvh2.nodes.size()) {
+  Collapser(const Bvh2& bvh2, float padding, const CollapseCosts& costs, std::span<const uint32_t> prim_key)
+      : in_(bvh2), pad_(padding), costs_(costs), key_(prim_key), plans_(bvh2.nodes.size()) {
     if (bvh2.nodes.empty()) return;
     BBox root = bvh2.nodes[0].bounds();
     float3 e = root.extent();
@@ -130,19 +130,28 @@ class Collapser {
 
   uint32_t emit_leaf(uint32_t n) {
     const Plan& p = plans_[n];
-    uint32_t count = blocks(p.count);
-    assert(count <= bvh4_ref::kMaxLeafBlocks);
     uint32_t first_block = static_cast<uint32_t>(out_.block_prims.size() / 4);
-    for (uint32_t i = 0; i < count * 4; ++i)
-      out_.block_prims.push_back(i < p.count ? in_.prim_order[p.first + i] : kInvalidId);
+    size_t start = out_.block_prims.size();
+    for (uint32_t i = 0; i < p.count; ++i) {
+      uint32_t prim = in_.prim_order[p.first + i];
+      bool repeated = false;
+      for (size_t k = start; k < out_.block_prims.size() && !key_.empty() && !repeated; ++k)
+        repeated = key_[out_.block_prims[k]] == key_[prim];
+      if (!repeated) out_.block_prims.push_back(prim);
+    }
+    uint32_t unique = static_cast<uint32_t>(out_.block_prims.size() - start);
+    uint32_t count = blocks(unique);
+    assert(count <= bvh4_ref::kMaxLeafBlocks);
+    out_.block_prims.resize(start + 4 * size_t(count), kInvalidId);
     ++out_.leaves;
-    out_.sah_cost += area(n) * leaf_cost(p.count);
+    out_.sah_cost += area(n) * leaf_cost(unique);
     return bvh4_ref::leaf(first_block, count);
   }
 
   const Bvh2& in_;
   float pad_;
   CollapseCosts costs_;
+  std::span<const uint32_t> key_;
   float inv_root_area_ = 0.0f;
   float volume_weight_ = 0.0f;
   std::vector<Plan> plans_;
@@ -151,8 +160,9 @@ class Collapser {
 
 }  // namespace
 
-Bvh4Topology collapse_to_bvh4(const Bvh2& bvh2, float padding, const CollapseCosts& costs) {
-  return Collapser(bvh2, padding, costs).run();
+Bvh4Topology collapse_to_bvh4(const Bvh2& bvh2, float padding, const CollapseCosts& costs,
+                              std::span<const uint32_t> prim_key) {
+  return Collapser(bvh2, padding, costs, prim_key).run();
 }
 
 }  // namespace pt

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bvh2.h"
@@ -38,7 +39,10 @@ struct CollapseCosts {
 /// Collapses `bvh2` into the 4-wide tree of least SAH cost that keeps its
 /// binary subtrees. Every child box is enlarged by `padding` on each side.
 /// Binary leaves of more than 4 * kMaxLeafBlocks primitives are not
-/// representable: build the binary BVH with max_leaf_size <= 64.
-Bvh4Topology collapse_to_bvh4(const Bvh2& bvh2, float padding, const CollapseCosts& costs = {});
+/// representable: build the binary BVH with max_leaf_size <= 64. With
+/// `prim_key` (one per primitive: fragments of one triangle share a key), a
+/// leaf keeps only the first of the primitives that share a key.
+Bvh4Topology collapse_to_bvh4(const Bvh2& bvh2, float padding, const CollapseCosts& costs = {},
+                              std::span<const uint32_t> prim_key = {});
 
 }  // namespace pt

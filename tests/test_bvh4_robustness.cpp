@@ -167,6 +167,9 @@ TEST(Bvh4Robustness, WatertightTestLetsNoRayOutOfAClosedSphere) {
   Bvh4Options watertight;
   watertight.watertight = true;
   EXPECT_EQ(count_misses(SceneBvh4(s, watertight), rays), 0) << "of " << rays.size() << " rays";
+  Bvh4Options split = watertight;  // fragments' boxes must not lose a hit either
+  split.presplit_budget = 1.0f;
+  EXPECT_EQ(count_misses(SceneBvh4(s, split), rays), 0) << "pre-split, of " << rays.size() << " rays";
   int mt_misses = count_misses(SceneBvh4(s), rays);
   RecordProperty("moller_trumbore_misses", mt_misses);
   std::printf("Moller-Trumbore BVH4: %d of %zu rays escaped the closed sphere\n", mt_misses, rays.size());
