@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -91,6 +94,10 @@ void fill_blocks(Bvh4& bvh, const std::vector<uint32_t>& block_prims, const std:
   });
 }
 
+/// Child references are 32-bit byte offsets: at most 2^32 / 160 leaf blocks
+/// (one per reference at worst) and 2^32 / 128 nodes (fewer than references).
+constexpr size_t kMaxBvh4References = (size_t(1) << 32) / sizeof(TriangleBlock4) - 1;
+
 }  // namespace
 
 float bvh4_box_padding(float max_abs_coordinate) { return max_abs_coordinate * 0x1p-20f; }
@@ -108,14 +115,29 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     Inputs in = gather_inputs(positions, triangles);
-    std::vector<float3> corners(3 * in.ids.size());
-    for (size_t i = 0; i < in.ids.size(); ++i) {
-      const TriangleIndices& t = triangles[in.ids[i]];
-      corners[3 * i] = positions[t.v0], corners[3 * i + 1] = positions[t.v1], corners[3 * i + 2] = positions[t.v2];
+    SplitReferences refs;
+    if (options.presplit_budget > 0.0f) {
+      std::vector<float3> corners(3 * in.ids.size());
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, in.ids.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          const TriangleIndices& t = triangles[in.ids[i]];
+          corners[3 * i] = positions[t.v0], corners[3 * i + 1] = positions[t.v1], corners[3 * i + 2] = positions[t.v2];
+        }
+      });
+      refs = presplit_triangles(corners, options.presplit_budget);
+    } else {  // one reference per triangle: its box
+      refs.boxes = std::move(in.boxes);
+      refs.centers = std::move(in.centers);
+      refs.triangle.resize(in.ids.size());
+      std::iota(refs.triangle.begin(), refs.triangle.end(), 0u);
     }
-    SplitReferences refs = presplit_triangles(corners, options.presplit_budget);
+    if (refs.triangle.size() > kMaxBvh4References)
+      throw std::length_error("BVH4: " + std::to_string(refs.triangle.size()) +
+                              " build references, more than the 32-bit node and block offsets address");
     Bvh2 bvh2 = build_bvh2_sah(refs.boxes, refs.centers, sah);
-    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse, refs.triangle);
+    std::span<const uint32_t> fragment_key;  // only pre-split fragments can repeat a triangle in a leaf
+    if (options.presplit_budget > 0.0f) fragment_key = refs.triangle;
+    topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse, fragment_key);
     fill_blocks(bvh, topo.block_prims, refs.triangle, in, positions, triangles);
     if (stats) {
       stats->triangles = static_cast<uint32_t>(in.ids.size());

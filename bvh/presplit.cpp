@@ -1,6 +1,6 @@
 // presplit_triangles: priorities, the split budget's scale, and the recursive
-// cutting of each chosen triangle at grid planes with exact (double
-// precision) clipping of the triangle to each fragment's box.
+// cutting of each chosen triangle at grid planes, clipping the triangle to
+// each fragment's cell in double precision with a margin for rounding.
 #include "presplit.h"
 
 #include <algorithm>
@@ -69,9 +69,13 @@ struct Grid {
 };
 
 /// Clips the triangle to box `b` (Sutherland-Hodgman, six planes, in double)
-/// and returns the clipped polygon's box; false when nothing is left.
+/// and returns the clipped polygon's box, widened by 2^-40 of the box's
+/// magnitude (far above the rounding of the intersection points) and kept
+/// inside `b`; false when nothing is left. Should rounding ever produce more
+/// vertices than a convex clip can, the box is `b` itself (still conservative).
 bool clipped_box(const Point (&tri)[3], const DBox& b, DBox& out) {
-  Point poly[9], next[9];
+  constexpr int kMaxVertices = 32;
+  Point poly[kMaxVertices], next[kMaxVertices];
   int n = 3;
   for (int i = 0; i < 3; ++i) poly[i] = tri[i];
   for (int a = 0; a < 3 && n > 0; ++a)
@@ -82,8 +86,12 @@ bool clipped_box(const Point (&tri)[3], const DBox& b, DBox& out) {
       for (int i = 0; i < n; ++i) {
         const Point &cur = poly[i], &nxt = poly[(i + 1) % n];
         bool in_cur = inside(cur), in_nxt = inside(nxt);
-        if (in_cur && m < 9) next[m++] = cur;
-        if (in_cur != in_nxt && m < 9) {
+        if (m + 2 > kMaxVertices) {
+          out = b;
+          return true;
+        }
+        if (in_cur) next[m++] = cur;
+        if (in_cur != in_nxt) {
           double s = (plane - cur.p[a]) / (nxt.p[a] - cur.p[a]);
           Point x;
           for (int k = 0; k < 3; ++k) x.p[k] = cur.p[k] + s * (nxt.p[k] - cur.p[k]);
@@ -101,10 +109,9 @@ bool clipped_box(const Point (&tri)[3], const DBox& b, DBox& out) {
       out.lo[a] = std::min(out.lo[a], poly[i].p[a]);
       out.hi[a] = std::max(out.hi[a], poly[i].p[a]);
     }
-    // The clip planes bound the result exactly: rounding in the intersection
-    // points must not push the box outside the cell.
-    out.lo[a] = std::max(out.lo[a], b.lo[a]);
-    out.hi[a] = std::min(out.hi[a], b.hi[a]);
+    double margin = std::max(std::fabs(b.lo[a]), std::fabs(b.hi[a])) * 0x1p-40;
+    out.lo[a] = std::max(out.lo[a] - margin, b.lo[a]);
+    out.hi[a] = std::min(out.hi[a] + margin, b.hi[a]);
   }
   return true;
 }
@@ -203,38 +210,44 @@ SplitReferences presplit_triangles(std::span<const float3> corners, float budget
     }
   });
 
-  // The scale D of splits = floor(D priority) that spends the budget, by bisection.
+  // The scale D of splits = floor(D priority), at most kMaxSplitsPerTriangle
+  // (clamped in double before conversion), that spends the budget, by
+  // bisection; D = +inf when the budget is at least what can be spent.
+  auto splits_of = [&](double scale, size_t i) -> uint32_t {
+    return priority[i] > 0.0f ? static_cast<uint32_t>(std::min<double>(kMaxSplitsPerTriangle, scale * priority[i])) : 0;
+  };
   auto splits_at = [&](double scale) {
     return tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, n, kGrain), uint64_t(0),
         [&](const tbb::blocked_range<size_t>& r, uint64_t sum) {
-          for (size_t i = r.begin(); i != r.end(); ++i)
-            sum += std::min<uint64_t>(kMaxSplitsPerTriangle, static_cast<uint64_t>(scale * priority[i]));
+          for (size_t i = r.begin(); i != r.end(); ++i) sum += splits_of(scale, i);
           return sum;
         },
         [](uint64_t a, uint64_t b) { return a + b; });
   };
   const uint64_t target = static_cast<uint64_t>(double(budget) * double(n));
-  double max_priority = *std::max_element(priority.begin(), priority.end());
-  double lo = 0.0, hi = max_priority > 0.0 ? kMaxSplitsPerTriangle / max_priority : 0.0;
-  if (hi > 0.0) {
-    while (splits_at(hi) < target && hi < 1e30) hi *= 2.0;
+  double scale = 0.0;
+  if (splits_at(INFINITY) <= target) {
+    scale = INFINITY;
+  } else {
+    double max_priority = *std::max_element(priority.begin(), priority.end());
+    double lo = 0.0, hi = kMaxSplitsPerTriangle / max_priority;  // max_priority > 0 here
+    while (splits_at(hi) <= target) hi *= 2.0;  // ends: at +inf the sum exceeds the target
     for (int it = 0; it < 40; ++it) {
       double mid = 0.5 * (lo + hi);
       (splits_at(mid) <= target ? lo : hi) = mid;
     }
+    scale = lo;
   }
-  const double scale = lo;
 
   // Fragments per triangle into fixed slots, then packed in triangle order.
-  std::vector<uint32_t> first(n + 1, 0);
-  for (size_t i = 0; i < n; ++i)
-    first[i + 1] = first[i] + 1 + std::min<uint32_t>(kMaxSplitsPerTriangle, static_cast<uint32_t>(scale * priority[i]));
+  std::vector<size_t> first(n + 1, 0);
+  for (size_t i = 0; i < n; ++i) first[i + 1] = first[i] + 1 + splits_of(scale, i);
   std::vector<BBox> slots(first[n]);
   std::vector<uint32_t> made(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      uint32_t splits = first[i + 1] - first[i] - 1, count = 0;
+      uint32_t splits = static_cast<uint32_t>(first[i + 1] - first[i] - 1), count = 0;
       if (splits == 0) {
         slots[first[i]] = tri_box[i];
         made[i] = 1;

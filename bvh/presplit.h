@@ -27,9 +27,12 @@ struct SplitReferences {
 
 /// Splits up to budget * n extra fragments off the n triangles (corners[3i ..
 /// 3i + 2]), the most where the triangle's box has the most volume and the
-/// coarsest grid planes cross it (flat axis-aligned triangles are never cut). Every fragment box contains the part
-/// of its triangle inside its grid cell, rounded outwards, so the union of a
-/// triangle's fragments covers it. budget = 0 returns one reference per
+/// coarsest grid planes cross it (flat axis-aligned triangles are never cut);
+/// at most 64 cuts per triangle, so a larger budget is not all spent. Every
+/// fragment box holds the part of its triangle inside its cell, clipped in
+/// double precision, widened by a margin far above that arithmetic's rounding
+/// and rounded outwards to float, never past the triangle's own box: the union
+/// of a triangle's fragments covers it. budget = 0 returns one reference per
 /// triangle with its plain box. Deterministic; parallel in the calling oneTBB
 /// arena.
 SplitReferences presplit_triangles(std::span<const float3> corners, float budget);

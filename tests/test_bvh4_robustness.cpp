@@ -167,7 +167,7 @@ TEST(Bvh4Robustness, WatertightTestLetsNoRayOutOfAClosedSphere) {
   Bvh4Options watertight;
   watertight.watertight = true;
   EXPECT_EQ(count_misses(SceneBvh4(s, watertight), rays), 0) << "of " << rays.size() << " rays";
-  Bvh4Options split = watertight;  // fragments' boxes must not lose a hit either
+  Bvh4Options split = watertight;  // a tree over fragments must not lose a hit either
   split.presplit_budget = 1.0f;
   EXPECT_EQ(count_misses(SceneBvh4(s, split), rays), 0) << "pre-split, of " << rays.size() << " rays";
   int mt_misses = count_misses(SceneBvh4(s), rays);
