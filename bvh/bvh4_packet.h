@@ -41,6 +41,25 @@ struct PacketHits {
   vintK prim = vintK(-1);  ///< primitive ids as int32 bit patterns; -1 = kInvalidId
 };
 
+/// A packet's tmax and hits as per-lane arrays, for work done lane by lane.
+struct PacketHitLanes {
+  alignas(64) float t[kLanes], u[kLanes], v[kLanes];
+  alignas(64) int32_t prim[kLanes];  ///< primitive ids as int32 bit patterns
+
+  PacketHitLanes(const RayPacket& p, const PacketHits& h) {
+    p.tmax.store_aligned(t);
+    h.u.store_aligned(u);
+    h.v.store_aligned(v);
+    h.prim.store_aligned(prim);
+  }
+  void load_into(RayPacket& p, PacketHits& h) const {
+    p.tmax = vfloatK::load_aligned(t);
+    h.u = vfloatK::load_aligned(u);
+    h.v = vfloatK::load_aligned(v);
+    h.prim = vintK::load_aligned(prim);
+  }
+};
+
 /// Loads rays[i] for the lanes i set in `lanes` (other entries are not read).
 /// (GCC would vectorise the transposition below back into gathers.)
 #if defined(__GNUC__) && !defined(__clang__)
@@ -168,26 +187,17 @@ inline constexpr int kPacketMinRays = kLanes == 16 ? 4 : kLanes == 8 ? 3 : 2;
 /// Closest hits of the rays in `lanes` below `ref`, ray by ray, each under its
 /// packet's current tmax; p.tmax and h take the hits found.
 inline void intersect_rays_below(const Bvh4& bvh, uint32_t ref, uint32_t lanes, RayPacket& p, PacketHits& h) {
-  alignas(64) float t[kLanes], u[kLanes], v[kLanes];
-  alignas(64) int32_t prim[kLanes];
-  p.tmax.store_aligned(t);
-  h.u.store_aligned(u);
-  h.v.store_aligned(v);
-  h.prim.store_aligned(prim);
+  PacketHitLanes l(p, h);
   bool found = false;
   NoCounters counters;
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);
-    Hit hit{t[i], u[i], v[i], static_cast<uint32_t>(prim[i])};
+    Hit hit{l.t[i], l.u[i], l.v[i], static_cast<uint32_t>(l.prim[i])};
     if (!bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.rays[i], hit, counters)) continue;
-    t[i] = hit.t, u[i] = hit.u, v[i] = hit.v, prim[i] = static_cast<int32_t>(hit.prim);
+    l.t[i] = hit.t, l.u[i] = hit.u, l.v[i] = hit.v, l.prim[i] = static_cast<int32_t>(hit.prim);
     found = true;
   }
-  if (!found) return;
-  p.tmax = vfloatK::load_aligned(t);
-  h.u = vfloatK::load_aligned(u);
-  h.v = vfloatK::load_aligned(v);
-  h.prim = vintK::load_aligned(prim);
+  if (found) l.load_into(p, h);
 }
 
 /// The lanes of `lanes` whose rays are blocked below `ref`, ray by ray.

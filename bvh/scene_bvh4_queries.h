@@ -93,18 +93,13 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   PacketHits h;
   if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
   else bvh4_intersect_packet<false>(s.bvh(), p, h);
-  alignas(64) float t[kLanes], u[kLanes], v[kLanes];
-  alignas(64) int32_t prim[kLanes];
-  p.tmax.store_aligned(t);
-  h.u.store_aligned(u);
-  h.v.store_aligned(v);
-  h.prim.store_aligned(prim);
+  const PacketHitLanes l(p, h);
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);
     Hit& hit = hits[i];
-    uint32_t id = static_cast<uint32_t>(prim[i]);
-    hit = id != kInvalidId ? Hit{t[i], u[i], v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
+    uint32_t id = static_cast<uint32_t>(l.prim[i]);
+    hit = id != kInvalidId ? Hit{l.t[i], l.u[i], l.v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
     if (spheres.empty() || !(p.active >> i & 1)) continue;
     for (uint32_t k = 0; k < spheres.size(); ++k) {
       float ts;
