@@ -115,8 +115,9 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     Inputs in = gather_inputs(positions, triangles);
+    const bool presplit = options.presplit_budget > 0.0f;
     SplitReferences refs;
-    if (options.presplit_budget > 0.0f) {
+    if (presplit) {
       std::vector<float3> corners(3 * in.ids.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, in.ids.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -135,8 +136,8 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
       throw std::length_error("BVH4: " + std::to_string(refs.triangle.size()) +
                               " build references, more than the 32-bit node and block offsets address");
     Bvh2 bvh2 = build_bvh2_sah(refs.boxes, refs.centers, sah);
-    std::span<const uint32_t> fragment_key;  // only pre-split fragments can repeat a triangle in a leaf
-    if (options.presplit_budget > 0.0f) fragment_key = refs.triangle;
+    // Only pre-split fragments can repeat a triangle in a leaf.
+    std::span<const uint32_t> fragment_key = presplit ? std::span<const uint32_t>(refs.triangle) : std::span<const uint32_t>();
     topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse, fragment_key);
     fill_blocks(bvh, topo.block_prims, refs.triangle, in, positions, triangles);
     if (stats) {

@@ -135,8 +135,9 @@ class Collapser {
     for (uint32_t i = 0; i < p.count; ++i) {
       uint32_t prim = in_.prim_order[p.first + i];
       bool repeated = false;
-      for (size_t k = start; k < out_.block_prims.size() && !key_.empty() && !repeated; ++k)
-        repeated = key_[out_.block_prims[k]] == key_[prim];
+      if (!key_.empty())
+        for (size_t k = start; k < out_.block_prims.size() && !repeated; ++k)
+          repeated = key_[out_.block_prims[k]] == key_[prim];
       if (!repeated) out_.block_prims.push_back(prim);
     }
     uint32_t unique = static_cast<uint32_t>(out_.block_prims.size() - start);

@@ -248,12 +248,7 @@ SplitReferences presplit_triangles(std::span<const float3> corners, float budget
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       uint32_t splits = static_cast<uint32_t>(first[i + 1] - first[i] - 1), count = 0;
-      if (splits == 0) {
-        slots[first[i]] = tri_box[i];
-        made[i] = 1;
-        continue;
-      }
-      Point tri[3];
+      Point tri[3];  // with no splits, cut emits the triangle's own box (exact through double)
       for (int v = 0; v < 3; ++v)
         for (int k = 0; k < 3; ++k) tri[v].p[k] = corners[3 * i + v][k];
       cut(grid, tri, tri_box[i], to_double(tri_box[i]), splits, &slots[first[i]], count);
