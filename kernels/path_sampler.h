@@ -1,7 +1,7 @@
-// Where a path's random numbers come from: independent counter-based numbers
-// (random.h), or Owen-scrambled Sobol points (sobol.h) for the 2D decisions
-// (pixel jitter, light samples, BSDF directions). Either way a number is a
-// pure function of (seed, pixel, sample, bounce, dimension). Lane-generic:
+// Where a path's random numbers come from: Owen-scrambled Sobol points
+// (sobol.h, the default) or independent counter-based numbers (random.h,
+// `--sampler independent` and the course renderer's). Either way a number is
+// a pure function of (seed, pixel, sample, bounce, dimension). Lane-generic:
 // U is uint32_t or a batch of them, F the matching float type.
 #pragma once
 
@@ -16,25 +16,32 @@ namespace pt {
 template <class U, class F>
 struct PathSamplerT {
   U pixel;      ///< pixel_key(seed, pixel index)
-  U sample;     ///< sample index
-  U sample_k;   ///< sample_key(sample index)
+  U sample_k;   ///< the sample's word: sample_key(sample index) for independent numbers, the index's bits reversed for Sobol
   bool sobol = false;
 
   PathSamplerT(const RenderSettings& rs, U pixel_index, U sample_index)
       : pixel(pixel_key(rs.seed, pixel_index)),
-        sample(sample_index),
-        sample_k(sample_key(sample_index)),
+        sample_k(rs.sampler == PixelSampler::kSobol ? reverse_bits32(sample_index) : sample_key(sample_index)),
         sobol(rs.sampler == PixelSampler::kSobol) {}
 
-  F get1d(uint32_t bounce, uint32_t dim) const { return random_float<U, F>(pixel, sample_k, dimension_key(bounce, dim)); }
+  /// From the keys a sampler of the same settings computed (the wavefront
+  /// keeps them per path).
+  PathSamplerT(U pixel_k, U sample_word, PixelSampler kind)
+      : pixel(pixel_k), sample_k(sample_word), sobol(kind == PixelSampler::kSobol) {}
+
+  /// Dimension `dim` at `bounce`.
+  PT_ALWAYS_INLINE F get1d(uint32_t bounce, uint32_t dim) const {
+    if (sobol) return owen_sobol_1d_reversed<U, F>(sample_k, hash32(pixel ^ U(dimension_key(bounce, dim))));
+    return random_float<U, F>(pixel, sample_k, dimension_key(bounce, dim));
+  }
 
   /// Dimensions (dim, dim + 1) at `bounce`.
-  void get2d(uint32_t bounce, uint32_t dim, F& u1, F& u2) const {
+  PT_ALWAYS_INLINE void get2d(uint32_t bounce, uint32_t dim, F& u1, F& u2) const {
     if (sobol) {
-      owen_sobol_2d<U, F>(sample, hash32(pixel ^ U(dimension_key(bounce, dim))), u1, u2);
+      owen_sobol_2d_reversed<U, F>(sample_k, hash32(pixel ^ U(dimension_key(bounce, dim))), u1, u2);
     } else {
-      u1 = get1d(bounce, dim);
-      u2 = get1d(bounce, dim + 1);
+      u1 = random_float<U, F>(pixel, sample_k, dimension_key(bounce, dim));
+      u2 = random_float<U, F>(pixel, sample_k, dimension_key(bounce, dim + 1));
     }
   }
 };

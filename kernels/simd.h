@@ -295,6 +295,51 @@ inline void store_compressed(float* dst, uint32_t mask, vfloatK v) {
   store_compressed(reinterpret_cast<int32_t*>(dst), mask, xsimd::bitwise_cast<vintK>(v));
 }
 
+/// Each 32-bit lane's bits in reverse order (bit 0 <-> bit 31). xsimd 8.1 has
+/// no bit reversal: on x86 two nibble lookups by byte shuffle reverse each
+/// byte and a third shuffle reverses the bytes of a lane (7 instructions
+/// against 25 shifts and masks); aarch64 has both steps as instructions.
+inline vuintK reverse_bits(vuintK v) {
+#if defined(__x86_64__)
+  alignas(64) static constexpr uint8_t kLowNibbleToHigh[64] = {
+      0x00, 0x80, 0x40, 0xC0, 0x20, 0xA0, 0x60, 0xE0, 0x10, 0x90, 0x50, 0xD0, 0x30, 0xB0, 0x70, 0xF0,
+      0x00, 0x80, 0x40, 0xC0, 0x20, 0xA0, 0x60, 0xE0, 0x10, 0x90, 0x50, 0xD0, 0x30, 0xB0, 0x70, 0xF0,
+      0x00, 0x80, 0x40, 0xC0, 0x20, 0xA0, 0x60, 0xE0, 0x10, 0x90, 0x50, 0xD0, 0x30, 0xB0, 0x70, 0xF0,
+      0x00, 0x80, 0x40, 0xC0, 0x20, 0xA0, 0x60, 0xE0, 0x10, 0x90, 0x50, 0xD0, 0x30, 0xB0, 0x70, 0xF0};
+  alignas(64) static constexpr uint8_t kHighNibbleToLow[64] = {
+      0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF,
+      0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF,
+      0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF,
+      0x0, 0x8, 0x4, 0xC, 0x2, 0xA, 0x6, 0xE, 0x1, 0x9, 0x5, 0xD, 0x3, 0xB, 0x7, 0xF};
+  alignas(64) static constexpr uint8_t kByteSwap[64] = {
+      3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12,
+      3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12};
+#if XSIMD_WITH_AVX512F
+  const __m512i x = v, nibble = _mm512_set1_epi8(0x0F);
+  const __m512i lo = _mm512_and_si512(x, nibble), hi = _mm512_and_si512(_mm512_srli_epi16(x, 4), nibble);
+  const __m512i bytes = _mm512_or_si512(_mm512_shuffle_epi8(_mm512_load_si512(kLowNibbleToHigh), lo),
+                                        _mm512_shuffle_epi8(_mm512_load_si512(kHighNibbleToLow), hi));
+  return _mm512_shuffle_epi8(bytes, _mm512_load_si512(kByteSwap));
+#elif XSIMD_WITH_AVX2
+  const __m256i x = v, nibble = _mm256_set1_epi8(0x0F);
+  const __m256i lo = _mm256_and_si256(x, nibble), hi = _mm256_and_si256(_mm256_srli_epi16(x, 4), nibble);
+  const __m256i bytes =
+      _mm256_or_si256(_mm256_shuffle_epi8(_mm256_load_si256(reinterpret_cast<const __m256i*>(kLowNibbleToHigh)), lo),
+                      _mm256_shuffle_epi8(_mm256_load_si256(reinterpret_cast<const __m256i*>(kHighNibbleToLow)), hi));
+  return _mm256_shuffle_epi8(bytes, _mm256_load_si256(reinterpret_cast<const __m256i*>(kByteSwap)));
+#else
+  const __m128i x = v, nibble = _mm_set1_epi8(0x0F);
+  const __m128i lo = _mm_and_si128(x, nibble), hi = _mm_and_si128(_mm_srli_epi16(x, 4), nibble);
+  const __m128i bytes =
+      _mm_or_si128(_mm_shuffle_epi8(_mm_load_si128(reinterpret_cast<const __m128i*>(kLowNibbleToHigh)), lo),
+                   _mm_shuffle_epi8(_mm_load_si128(reinterpret_cast<const __m128i*>(kHighNibbleToLow)), hi));
+  return _mm_shuffle_epi8(bytes, _mm_load_si128(reinterpret_cast<const __m128i*>(kByteSwap)));
+#endif
+#else
+  return vreinterpretq_u32_u8(vrev32q_u8(vrbitq_u8(vreinterpretq_u8_u32(v))));
+#endif
+}
+
 /// Smallest of the K lanes; the lanes must not be NaN.
 inline float reduce_min_k(vfloatK v) {
 #if XSIMD_WITH_AVX512F

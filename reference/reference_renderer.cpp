@@ -10,6 +10,7 @@
 
 #include "kernels/pixel_accumulator.h"
 #include "kernels/camera_sample.h"
+#include "kernels/sample_schedule.h"
 #include "reference_integrator.h"
 
 namespace pt::reference {
@@ -44,8 +45,7 @@ RenderOutput render_reference(const Scene& scene, const SceneBvh2& accel, const 
     while (acc.samples < static_cast<uint32_t>(rs.samples_per_pixel)) {
       PathSampler ps(rs, pixel, acc.samples);
       if (!acc.add(integrator.radiance(jittered_camera_ray(camera, rs, x, y, ps), ps, stats))) ++stats.invalid_samples;
-      if (rs.adaptive() && acc.samples % static_cast<uint32_t>(rs.adaptive_batch) == 0 &&
-          pixel_converged(acc.moments, acc.samples, rs.adaptive_tolerance))
+      if (adaptive_check_due(rs, acc.samples) && pixel_converged(acc.moments, acc.samples, rs.adaptive_tolerance))
         break;
     }
     stats.samples += acc.samples;

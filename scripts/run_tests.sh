@@ -60,8 +60,9 @@ if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   slow='^(WhiteFurnace|EstimatorAgreement|EmitterFormFactor|EngineAgreement|Determinism|Resume|CommandLine|CourseImages)\.'
   slow+='|^Public/BvhSceneTest\.ClosestHitsAndOcclusionEqualBruteForce/(bunny|CBbunny|CBcoil|cow|beetle)( |$)'
   slow+='|^(ThreadDeterminism\.CornellSceneWithAdaptiveSampling|RandomNumbers\.NoTwoPathsShareAllTheirNumbers'
-  slow+='|SkyFurnace\.PlaneUnderUniformSkyHasRadianceRhoTimesLs|AdaptiveSampling\.StopsOnBatchBoundaries.*'
-  slow+='|AdaptiveSampling\.NoisyPixelsAreSampledToTheMaximum)$'
+  slow+='|SkyFurnace\.PlaneUnderUniformSkyHasRadianceRhoTimesLs|AdaptiveSampling\.StopsOnlyAtChecks.*'
+  slow+='|AdaptiveSampling\.NoisyPixelsAreSampledToTheMaximum|Sobol\.HashScramblingHasTheErrorOfTrueOwenScrambling'
+  slow+='|Sobol\.ErrorAtAStepInRadianceFallsFasterThanIndependentSampling)$'
   level=$(./build-asan/io/cli/pathtracer --list-isa | awk '{print $1}')
   log=build-asan/ctest.log
   if ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \

@@ -18,6 +18,10 @@ struct LaneProbes {
   /// n a multiple of K.
   void (*random_numbers)(uint32_t seed, const uint32_t* pixels, const uint32_t* samples, uint32_t dim_key, size_t n,
                          uint32_t* keys, float* values);
+  /// The Sobol sampler of (seed, pixels[i], samples[i]): get2d(bounce, dim) -> (u[i], v[i]) and
+  /// get1d(bounce, dim + 2) -> w[i]; n a multiple of K.
+  void (*sobol_points)(uint32_t seed, const uint32_t* pixels, const uint32_t* samples, uint32_t bounce, uint32_t dim,
+                       size_t n, float* u, float* v, float* w);
   /// Warp `which` (0 uniform hemisphere, 1 cosine hemisphere, 2 uniform sphere) of (a[i], b[i]); n a multiple of K.
   void (*warp)(int which, const float* a, const float* b, size_t n, float* x, float* y, float* z);
   /// lane_mask(lanes_of_mask(bits)).

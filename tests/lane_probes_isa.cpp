@@ -1,4 +1,5 @@
 // LaneProbes of one instruction-set level (compiled once per level).
+#include "kernels/path_sampler.h"
 #include "kernels/random.h"
 #include "kernels/sampling.h"
 #include "kernels/simd.h"
@@ -15,6 +16,21 @@ void random_numbers(uint32_t seed, const uint32_t* pixels, const uint32_t* sampl
     vuintK sk = sample_key<vuintK>(vuintK::load_unaligned(samples + i));
     pk.store_unaligned(keys + i);
     random_float<vuintK, vfloatK>(pk, sk, dim_key).store_unaligned(values + i);
+  }
+}
+
+void sobol_points(uint32_t seed, const uint32_t* pixels, const uint32_t* samples, uint32_t bounce, uint32_t dim,
+                  size_t n, float* u, float* v, float* w) {
+  RenderSettings rs;
+  rs.seed = seed;
+  rs.sampler = PixelSampler::kSobol;
+  for (size_t i = 0; i < n; i += kLanes) {
+    PathSamplerT<vuintK, vfloatK> ps(rs, vuintK::load_unaligned(pixels + i), vuintK::load_unaligned(samples + i));
+    vfloatK a, b;
+    ps.get2d(bounce, dim, a, b);
+    a.store_unaligned(u + i);
+    b.store_unaligned(v + i);
+    ps.get1d(bounce, dim + 2).store_unaligned(w + i);
   }
 }
 
@@ -63,6 +79,7 @@ const test::LaneProbes kLaneProbes = {
     .isa = PT_ISA,
     .lanes = kLanes,
     .random_numbers = test::random_numbers,
+    .sobol_points = test::sobol_points,
     .warp = test::warp,
     .mask_round_trip = test::mask_round_trip,
     .equal_uint_lanes = test::equal_uint_lanes,

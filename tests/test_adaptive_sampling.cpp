@@ -1,7 +1,8 @@
 // Adaptive sampling (-a BATCH TOL): a pixel whose samples are all equal has
 // sigma = 0 and stops after the first batch; a pixel whose relative noise
 // needs more samples than the maximum is sampled to the maximum; every pixel
-// stops on a batch boundary; with adaptive sampling off every pixel takes the
+// stops at a check (every BATCH samples, or with Sobol points at the powers of
+// two from BATCH up); with adaptive sampling off every pixel takes the
 // maximum. Checked through Film::samples, for every engine.
 #include <string>
 
@@ -65,28 +66,57 @@ TEST(AdaptiveSampling, NoisyPixelsAreSampledToTheMaximum) {
   }
 }
 
-// On the Cornell scene pixels converge at different batches; each stops on a
-// batch boundary (or at the maximum), and some stop early while others do not.
-// Adaptive sampling off (tolerance 0): the maximum everywhere.
-TEST(AdaptiveSampling, StopsOnBatchBoundariesAndOffMeansEverySample) {
+// On the Cornell scene pixels converge at different checks. With independent
+// numbers each stops on a batch boundary (or at the maximum); with Sobol points
+// only at the powers of two from BATCH up (32, 64, 128; else the maximum), where
+// its points are complete nets. Some stop early while others do not. Adaptive
+// sampling off (tolerance 0): the maximum everywhere.
+TEST(AdaptiveSampling, StopsOnlyAtChecksAndOffMeansEverySample) {
   const Scene s = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
   const Camera camera = resolve_camera(s, 16, 16);
+  for (PixelSampler sampler : {PixelSampler::kIndependent, PixelSampler::kSobol})
+    for (const test::EngineUnderTest& e : test::engines_under_test()) {
+      RenderSettings rs = adaptive_settings();
+      rs.max_depth = 2;
+      rs.sampler = sampler;
+      RenderOutput out = e.render(s, camera, rs);
+      int early = 0, full = 0, off_power_of_two = 0;
+      for (uint32_t n : out.film.samples) {
+        ASSERT_TRUE(n % kBatch == 0 || n == uint32_t(kMax)) << e.name << ": " << n << " samples";
+        if (sampler == PixelSampler::kSobol) {
+          ASSERT_TRUE((n & (n - 1)) == 0 || n == uint32_t(kMax)) << e.name << ": " << n << " Sobol samples";
+        }
+        ASSERT_GE(n, uint32_t(kBatch));
+        early += n < uint32_t(kMax);
+        full += n == uint32_t(kMax);
+        off_power_of_two += (n & (n - 1)) != 0;
+      }
+      EXPECT_GT(early, 0) << e.name;
+      EXPECT_GT(full, 0) << e.name;
+      // Power: independent numbers do stop between powers of two here (96, 160, ...).
+      if (sampler == PixelSampler::kIndependent) {
+        EXPECT_GT(off_power_of_two, 0) << e.name;
+      }
+      rs.adaptive_tolerance = 0.0f;
+      out = e.render(s, camera, rs);
+      for (uint32_t n : out.film.samples) ASSERT_EQ(n, uint32_t(kMax)) << e.name;
+    }
+}
+
+// With Sobol points and a batch that is not a power of two, the first check
+// is at the next power of two (48 -> 64), and constant pixels stop there.
+TEST(AdaptiveSampling, SobolChecksStartAtThePowerOfTwoAboveTheBatch) {
+  const Scene s = plane(false);
+  const Camera down = test::look_at({0, 1, 0.5f}, {0, 0, 0}, 0.5f, 0.5f);
   for (const test::EngineUnderTest& e : test::engines_under_test()) {
     RenderSettings rs = adaptive_settings();
-    rs.max_depth = 2;
-    RenderOutput out = e.render(s, camera, rs);
-    int early = 0, full = 0;
-    for (uint32_t n : out.film.samples) {
-      ASSERT_TRUE(n % kBatch == 0 || n == uint32_t(kMax)) << e.name << ": " << n << " samples";
-      ASSERT_GE(n, uint32_t(kBatch));
-      early += n < uint32_t(kMax);
-      full += n == uint32_t(kMax);
-    }
-    EXPECT_GT(early, 0) << e.name;
-    EXPECT_GT(full, 0) << e.name;
-    rs.adaptive_tolerance = 0.0f;
-    out = e.render(s, camera, rs);
-    for (uint32_t n : out.film.samples) ASSERT_EQ(n, uint32_t(kMax)) << e.name;
+    rs.adaptive_batch = 48;
+    rs.sampler = PixelSampler::kSobol;
+    RenderOutput out = e.render(s, down, rs);
+    for (size_t i = 0; i < out.film.samples.size(); ++i) ASSERT_EQ(out.film.samples[i], 64u) << e.name << " pixel " << i;
+    rs.sampler = PixelSampler::kIndependent;
+    out = e.render(s, down, rs);
+    for (size_t i = 0; i < out.film.samples.size(); ++i) ASSERT_EQ(out.film.samples[i], 48u) << e.name << " pixel " << i;
   }
 }
 

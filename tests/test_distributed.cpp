@@ -216,7 +216,7 @@ TEST(Shards, EveryEngineAndLightingModeMergesToTheSingleProcessImage) {
       {"--engine", "reference"},
       {"--direct", "mis"},
       {"-H"},
-      {"--sampler", "sobol", "--rr-mode", "throughput"},
+      {"--sampler", "independent", "--rr-mode", "throughput"},
       {"--normals"},
       {"--bounces", "indirect"},
       {"-b", "0.05", "-d", "3"},
@@ -257,7 +257,7 @@ TEST(Shards, MismatchedMissingOrRepeatedPartsAreRefused) {
   auto s8 = small("8");
   ASSERT_EQ(run_process(kBinary, with(s8, {"--tile", "16", "--shard", "1/2", "-f", "other.tiles"}), dir.path(), kTimeout).exit_code, 0);
   ASSERT_EQ(run_process(kBinary, with(kSmall, {"--tile", "32", "--shard", "1/2", "-f", "tile32.tiles"}), dir.path(), kTimeout).exit_code, 0);
-  ASSERT_EQ(run_process(kBinary, with(kSmall, {"--tile", "16", "--sampler", "sobol", "--shard", "1/2", "-f", "sobol.tiles"}),
+  ASSERT_EQ(run_process(kBinary, with(kSmall, {"--tile", "16", "--sampler", "independent", "--shard", "1/2", "-f", "independent.tiles"}),
                         dir.path(), kTimeout).exit_code, 0);
   struct Case {
     std::vector<std::string> parts;
@@ -266,7 +266,8 @@ TEST(Shards, MismatchedMissingOrRepeatedPartsAreRefused) {
   const Case cases[] = {
       {{"p0.tiles", "other.tiles"}, "error: other.tiles: a part of a different render than p0.tiles (its s=8 against s=16)"},
       {{"p0.tiles", "tile32.tiles"}, "error: tile32.tiles: a part of a different render than p0.tiles (tile size 32 against 16)"},
-      {{"p0.tiles", "sobol.tiles"}, "error: sobol.tiles: a part of a different render than p0.tiles (its sampler=1 against sampler=0)"},
+      {{"p0.tiles", "independent.tiles"},
+       "error: independent.tiles: a part of a different render than p0.tiles (its sampler=0 against sampler=1)"},
       {{"p0.tiles"}, "error: --merge: 6 of 12 tiles are missing (the first is tile 1 at 16,0); give every shard's part"},
       {{"p0.tiles", "p1.tiles", "p0.tiles"}, "error: p0.tiles: tile 0 is also in p0.tiles (the same shard given twice?)"},
       {{"p0.tiles", "missing.tiles"}, "missing.tiles"},

@@ -134,7 +134,7 @@ TEST(InvalidSamples, WarpsStayFiniteAtTheEdgesOfTheUnitSquare) {
 const DirectLighting kAllDirect[] = {DirectLighting::kLightSampling, DirectLighting::kHemisphere,
                                      DirectLighting::kCosine, DirectLighting::kMis};
 
-/// Renders every direct mode (and the Sobol sampler) with every engine and
+/// Renders every direct mode (and the independent sampler) with every engine and
 /// expects a finite framebuffer and zero discarded samples.
 void expect_no_invalid_samples(const Scene& scene, const Camera& cam, int w, int h, int spp, const std::string& what) {
   for (const test::EngineUnderTest& engine : engines_under_test())
@@ -143,7 +143,7 @@ void expect_no_invalid_samples(const Scene& scene, const Camera& cam, int w, int
       rs.max_depth = 4;
       rs.seed = 0;
       rs.direct = kAllDirect[mode % 4];
-      rs.sampler = mode == 4 ? PixelSampler::kSobol : PixelSampler::kIndependent;
+      rs.sampler = mode == 4 ? PixelSampler::kIndependent : PixelSampler::kSobol;
       RenderOutput out = engine.render(scene, cam, rs);
       EXPECT_EQ(out.stats.invalid_samples, 0u) << what << ", " << engine.name << ", mode " << mode;
       for (const float3& c : out.film.radiance) ASSERT_TRUE(is_finite(c)) << what << ", " << engine.name;

@@ -2,10 +2,10 @@
 #include "russian_roulette.h"
 
 #include "kernels/path_rules.h"
-#include "kernels/random.h"
 #include "kernels/sample_dimensions.h"
 #include "kernels/shading.h"
 #include "lane_output.h"
+#include "sampler_lanes.h"
 
 namespace pt::wf {
 
@@ -15,7 +15,6 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
   next.reserve(n);
   next.clear();
   const RenderSettings& rs = ctx.settings;
-  const uint32_t dim_key = dimension_key(vertex, dims::kRoulette);
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
     if (!PathRules::roulette_applies(vertex)) {
@@ -24,13 +23,12 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
     }
     vuintK path = vuintK::load_aligned(&candidates.path[i0]);
     vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(path), vintK(0));
-    vuintK pixel_k = gather(paths.pixel_key.data(), safe_path);
-    vuintK sample_k = gather(paths.sample_key.data(), safe_path);
+    const SamplerK ps = sampler_of_paths(rs, paths, safe_path);
     vfloatK beta_max = xsimd::max(gather(paths.beta_r.data(), safe_path),
                                   xsimd::max(gather(paths.beta_g.data(), safe_path),
                                              gather(paths.beta_b.data(), safe_path)));
     vfloatK p = continuation_probability(rs, beta_max);
-    uint32_t survive = lane_mask(valid && random_float<vuintK, vfloatK>(pixel_k, sample_k, dim_key) < p);
+    uint32_t survive = lane_mask(valid && ps.get1d(vertex, dims::kRoulette) < p);
     LaneFloats inv_p(vfloatK(1.0f) / p);
     LaneUints paths_of(path);
     for_each_lane(survive, [&](size_t l) {

@@ -29,7 +29,7 @@ void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, cons
     if (kind == MaterialKind::kMirror) {
       d = {mirror_direction(wo_local), reflectance, wo_local.z > vfloatK(0.0f)};
     } else {
-      SamplerK ps(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path));
+      SamplerK ps = sampler_of_paths(rs, paths, path);
       vfloatK u1, u2;
       ps.get2d(vertex, dims::kBsdf, u1, u2);
       d = scatter_dielectric(wo_local, s.front, gather(mats.ior.data(), s.material), reflectance,

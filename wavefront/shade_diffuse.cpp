@@ -129,7 +129,7 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
     if (!ctx.diffuse_only()) reflects = reflects && as_float_mask(gather(mats.kind.data(), s.material) == vintK(0));
     Chunk c{{s.p, s.ng, s.ns, s.offset, reflects},
             xsimd::bitwise_cast<vuintK>(path),
-            SamplerK(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path)),
+            sampler_of_paths(rs, paths, path),
             gather3(paths.beta_r, paths.beta_g, paths.beta_b, path),
             albedo,
             vertex};

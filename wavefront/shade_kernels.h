@@ -8,14 +8,13 @@
 
 #include "fetch_surfaces.h"
 #include "kernels/frame.h"
-#include "kernels/path_sampler.h"
 #include "kernels/simd.h"
+#include "sampler_lanes.h"
 #include "shade_surfaces.h"
 
 namespace pt::wf {
 
 using V3 = Vec3T<vfloatK>;
-using SamplerK = PathSamplerT<vuintK, vfloatK>;
 
 inline vintK as_index(vuintK u) { return xsimd::bitwise_cast<vintK>(u); }
 

@@ -31,7 +31,7 @@ void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& ra
     const ConductorT<vfloatK> m{gather(mats.alpha.data(), s.material),
                                 gather3(mats.eta_r, mats.eta_g, mats.eta_b, s.material),
                                 gather3(mats.k_r, mats.k_g, mats.k_b, s.material)};
-    const SamplerK ps(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path));
+    const SamplerK ps = sampler_of_paths(rs, paths, path);
     const V3 beta = gather3(paths.beta_r, paths.beta_g, paths.beta_b, path);
     const ShadingPointT<vfloatK> point{s.p, s.ng, s.ns, s.offset, s.hit};
     auto eval = [&](const V3& wi) { return eval_microfacet(m, wo_local, local_of(wi, s.ns), course); };
