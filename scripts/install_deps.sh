@@ -8,7 +8,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libxsimd-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libstb-dev libpugixml-dev libcli11-dev libtinyexr-dev
+  libstb-dev libpugixml-dev libcli11-dev libtinyexr-dev nlohmann-json3-dev
   libopenmpi-dev openmpi-bin    # mpirun renders across ranks (optional: without it the build has no MPI)
   libembree-dev                 # optional: only the benchmark compares against it
   clang libclang-rt-14-dev      # libFuzzer and the sanitizer build

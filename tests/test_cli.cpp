@@ -4,12 +4,14 @@
 // code 1, reported before rendering starts; and valid values take effect.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "io/image_output.h"
 #include "kernels/isa.h"
@@ -323,6 +325,71 @@ TEST(Flags, ResolutionRegionAndDecimalSamplesTakeEffect) {
       else EXPECT_EQ(p, float3(0.0f)) << "pixel " << x << "," << y << " is outside the region";
     }
   EXPECT_TRUE(lit_inside);
+}
+
+/// The bytes of a file.
+std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Renders the built-in scene small with `flags` into `name`.pfm and returns its bytes.
+std::string render_pfm(const test::ScratchDir& dir, const std::string& name, std::vector<std::string> flags) {
+  std::vector<std::string> args = {"-r", "16", "12", "-s", "8", "-m", "3", "-t", "2", "-q", "-f", name + ".pfm"};
+  args.insert(args.end(), flags.begin(), flags.end());
+  test::ProcessResult r = run(dir, args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return file_bytes(dir / (name + ".pfm"));
+}
+
+// The defaults are Sobol points, MIS, roulette at 0.8 and no adaptive
+// sampling (no rate image); --cs184-compat's are the course renderer's
+// (independent numbers, light sampling, -a 32 0.05, --rr 0.65), and a flag
+// given with it still wins.
+TEST(Flags, DefaultsAndTheCourseDefaultsOfCs184Compat) {
+  test::ScratchDir dir;
+  const std::string defaults = render_pfm(dir, "default", {});
+  EXPECT_FALSE(std::filesystem::exists(dir / "default_rate.png"));
+  EXPECT_EQ(defaults, render_pfm(dir, "explicit", {"--sampler", "sobol", "--direct", "mis", "--rr", "0.8", "--rr-mode",
+                                                    "fixed", "-a", "32", "0"}));
+  EXPECT_NE(defaults, render_pfm(dir, "light", {"--direct", "light"}));
+  const std::string course = render_pfm(dir, "course", {"--cs184-compat"});
+  EXPECT_TRUE(std::filesystem::exists(dir / "course_rate.png"));
+  EXPECT_EQ(course, render_pfm(dir, "course_explicit", {"--cs184-compat", "--sampler", "independent", "--direct",
+                                                        "light", "-a", "32", "0.05", "--rr", "0.65"}));
+  EXPECT_NE(course, render_pfm(dir, "course_sobol", {"--cs184-compat", "--sampler", "sobol"}));
+}
+
+// A multi-valued flag takes exactly its values: the scene may follow -r W H.
+TEST(Flags, ASceneMayFollowTheValuesOfR) {
+  test::ScratchDir dir;
+  const std::string scene = std::string(PT_PROJECT_SCENES) + "/cornell_spheres.dae";
+  test::ProcessResult r = run(dir, {"-s", "1", "-q", "-f", "out.png", "-a", "16", "0", "-r", "8", "6", scene});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out.png"));
+}
+
+// --export-scene writes the scene as this renderer reads it and renders
+// nothing; an unwritable path is one line before loading.
+TEST(ExportScene, WritesTheLoadedSceneAndTheCameraAsJson) {
+  test::ScratchDir dir;
+  test::ProcessResult r = run(dir, {"-r", "40", "30", "-q", "--export-scene", "scene.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"scene.json"});
+  const nlohmann::json doc = nlohmann::json::parse(file_bytes(dir / "scene.json"));
+  // The built-in Cornell box: 10 wall triangles + the light's 2, two spheres, one area light.
+  EXPECT_EQ(doc["triangles"].size(), 12u * 4u);
+  EXPECT_EQ(doc["mesh_triangle_count"], 10);
+  EXPECT_EQ(doc["spheres"].size(), 2u);
+  EXPECT_EQ(doc["area_lights"].size(), 1u);
+  EXPECT_EQ(doc["positions"].size(), doc["normals"].size());
+  EXPECT_EQ(doc["width"], 40);
+  EXPECT_FLOAT_EQ(doc["camera"]["tan_half_vfov"].get<float>(), doc["camera"]["tan_half_hfov"].get<float>() * 30 / 40);
+  test::ScratchDir other;
+  r = run(other, {"--export-scene", "missing/scene.json"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("missing/scene.json"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -233,10 +233,17 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   integer("-l,--light-samples", raw.light_samples, "Samples per area light (and sky) per shading point; 1");
   integer("-t,--threads", raw.threads, "Worker threads; 1");
   integer("-m,--max-depth", raw.max_depth, "Maximum ray depth (bounces); 1");
-  app.add_option("-r,--resolution", raw.resolution, "Output size W H; 800 600")->expected(2)->type_name("INT");
-  path("-f,--output", o.output_path, "Output image (.png, or .pfm for linear float)");
-  app.add_option("-a,--adaptive", raw.adaptive, "Adaptive sampling BATCH TOL (TOL 0 turns it off); 32 0.05")
+  // allow_extra_args(false): a multi-valued flag takes exactly its values, so
+  // "-r 480 360 scene.dae" leaves the scene to the positional argument.
+  app.add_option("-r,--resolution", raw.resolution, "Output size W H; 800 600")
       ->expected(2)
+      ->allow_extra_args(false)
+      ->type_name("INT");
+  path("-f,--output", o.output_path, "Output image (.png, or .pfm for linear float)");
+  app.add_option("-a,--adaptive", raw.adaptive,
+                 "Adaptive sampling BATCH TOL (TOL 0 turns it off); 32 0, off (--cs184-compat: 32 0.05)")
+      ->expected(2)
+      ->allow_extra_args(false)
       ->type_name("NUMBER");
   app.add_flag("-H,--hemisphere", raw.hemisphere, "Uniform hemisphere sampling for direct light");
   path("-c,--camera", o.camera_file, "Camera settings file");
@@ -248,6 +255,7 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   path("-e,--envmap", o.environment_map, "Environment light: a lat-long OpenEXR map replacing the sky");
   app.add_option("-p,--region", raw.region, "Render only the region X Y DX DY (top-left origin)")
       ->expected(4)
+      ->allow_extra_args(false)
       ->type_name("INT");
   app.add_option("--engine", raw.engine, "Render engine: reference, wavefront or megakernel; wavefront")
       ->type_name("NAME");
@@ -257,22 +265,26 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("NAME");
   integer("--leaf-size", raw.leaf_size, "Maximum primitives per leaf of the bvh2 build; 4");
   integer("--seed", raw.seed, "Random seed; 0");
-  app.add_option("--rr", raw.rr, "Russian roulette continuation probability (--rr-mode fixed); 0.65")
+  app.add_option("--rr", raw.rr, "Russian roulette continuation probability (--rr-mode fixed); 0.8 (--cs184-compat: 0.65)")
       ->type_name("NUMBER");
   app.add_option("--rr-mode", raw.rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))")
       ->type_name("NAME");
   app.add_option("--direct", raw.direct,
-                 "Direct light: light (importance sampling), hemisphere (= -H), cosine, or mis (lights + BSDF)")
+                 "Direct light: mis (light samples + BSDF, power heuristic), light (importance sampling only), "
+                 "hemisphere (= -H) or cosine; mis (--cs184-compat: light)")
       ->type_name("NAME");
-  app.add_option("--sampler", raw.sampler, "Sample source: independent or sobol (Owen-scrambled)")->type_name("NAME");
+  app.add_option("--sampler", raw.sampler, "Sample source: sobol (Owen-scrambled, stratified) or independent; sobol (--cs184-compat: independent)")
+      ->type_name("NAME");
   app.add_option("--bounces", raw.bounces, "accumulate, only-m (only the m-th bounce), direct or indirect")
       ->type_name("NAME");
   app.add_flag("--normals", raw.normals, "Normal shading instead of path tracing");
   app.add_flag("--cs184-compat", raw.cs184,
-               "Reproduce the course renderer's quirks: area-light glow and pdf, invisible sky, 800x600 framing, "
-               "truncated PNG values");
+               "Reproduce the course renderer: its area-light glow and pdf, invisible sky, 800x600 framing, "
+               "truncated PNG values, and its defaults (independent numbers, light sampling, -a 32 0.05, --rr 0.65)");
   app.add_flag("--cs184-framing", o.cs184_framing, "Crop of the 800x600 view, as the course renderer frames -r");
   path("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
+  path("--export-scene", o.export_scene,
+       "Write the scene as this renderer reads it (JSON: geometry, materials, lights, the camera at -r) and exit");
   path("--checkpoint", o.checkpoint_file,
        "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
   app.add_option("--checkpoint-every", raw.checkpoint_every, "Seconds between checkpoint saves; 60")
@@ -350,6 +362,11 @@ ParseResult parse_command_line(int argc, char** argv) {
     s.cs184_invisible_sky = true;
     s.cs184_light_pdf = true;
     s.cs184_materials = true;
+    // The course renderer's defaults where a flag does not say otherwise.
+    if (app.count("--sampler") == 0) s.sampler = PixelSampler::kIndependent;
+    if (app.count("--direct") == 0 && !raw.hemisphere) s.direct = DirectLighting::kLightSampling;
+    if (app.count("-a") == 0) s.adaptive_tolerance = 0.05f;
+    if (app.count("--rr") == 0) s.rr_continue = 0.65f;
     o.cs184_framing = true;
     o.cs184_png = true;
   }

@@ -23,6 +23,7 @@ struct Options {
   std::optional<float> lens_radius;  ///< -b: thin-lens aperture radius
   std::optional<float> focal_distance; ///< -d: thin-lens focal distance
   std::string write_camera_file;     ///< --write-camera
+  std::string export_scene;          ///< --export-scene: write the scene as JSON and exit
   std::string checkpoint_file;       ///< --checkpoint: save / resume accumulated state
   double checkpoint_every = 60.0;    ///< seconds between checkpoint saves
   std::string variance_file;         ///< --variance: per-pixel variance PFM

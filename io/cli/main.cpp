@@ -21,6 +21,7 @@
 #include "io/collada_loader.h"
 #include "io/exr_image.h"
 #include "io/image_output.h"
+#include "io/scene_export.h"
 #include "io/tile_set.h"
 #include "io/scene_error.h"
 #include "convergence_run.h"
@@ -285,8 +286,25 @@ std::string current_error() {
   }
 }
 
+/// --export-scene: the loaded scene and the render's camera as JSON; no render.
+int export_scene(const cli::Options& o) {
+  check_writable(o.export_scene);
+  LoadResult loaded = load_collada_file(o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE)
+                                                             : std::filesystem::path(o.scene_path));
+  for (const std::string& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (!o.environment_map.empty()) {
+    RgbImage map = read_exr(o.environment_map);
+    set_environment(loaded.scene, std::make_shared<EnvironmentMap>(map.width, map.height, std::move(map.texels)));
+  }
+  const Camera camera = render_camera(o, loaded.scene);
+  write_file_atomically(o.export_scene, scene_to_json(loaded.scene, camera, o.settings.width, o.settings.height));
+  if (!o.quiet) std::printf("Wrote %s\n", o.export_scene.c_str());
+  return 0;
+}
+
 int run(const cli::Options& o, const cli::MpiJob& job) {
   if (!o.merge.empty()) return job.rank() == 0 ? cli::run_merge(o) : 0;
+  if (!o.export_scene.empty()) return job.rank() == 0 ? export_scene(o) : 0;
   Prepared p;
   if (job.size() == 1) {
     prepare(o, job, p);
