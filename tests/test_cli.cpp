@@ -369,6 +369,43 @@ TEST(Flags, ASceneMayFollowTheValuesOfR) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out.png"));
 }
 
+/// The `column` (0-based) of every data row of a CSV file.
+std::vector<std::string> csv_column(const std::filesystem::path& p, int column) {
+  std::istringstream in(file_bytes(p));
+  std::vector<std::string> values;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string field;
+    for (int c = 0; c <= column; ++c) std::getline(fields, field, ',');
+    values.push_back(field);
+  }
+  return values;
+}
+
+// Convergence mode: each sample count continues the previous one, or with
+// --convergence-restart is rendered from the start; the images, hence the
+// errors, are the same bit for bit (a pixel's samples do not depend on how
+// the passes were cut), and so are the rays of the last count (the same paths).
+TEST(Convergence, RestartingEachCountGivesTheSameErrors) {
+  test::ScratchDir dir;
+  ASSERT_EQ(run(dir, {"-r", "16", "12", "-s", "64", "-m", "3", "-q", "-f", "ref.pfm"}).exit_code, 0);
+  const std::vector<std::string> common = {"-r", "16", "12", "-s", "8", "-m", "3", "-q", "--seed", "5",
+                                           "--reference", "ref.pfm"};
+  std::vector<std::string> continued = common, restarted = common;
+  continued.insert(continued.end(), {"--convergence-csv", "continued.csv"});
+  restarted.insert(restarted.end(), {"--convergence-csv", "restarted.csv", "--convergence-restart"});
+  ASSERT_EQ(run(dir, continued).exit_code, 0);
+  ASSERT_EQ(run(dir, restarted).exit_code, 0);
+  EXPECT_EQ(csv_column(dir / "continued.csv", 1), (std::vector<std::string>{"1", "2", "4", "8"}));
+  EXPECT_EQ(csv_column(dir / "continued.csv", 4), csv_column(dir / "restarted.csv", 4));  // rmse
+  EXPECT_EQ(csv_column(dir / "continued.csv", 3).back(), csv_column(dir / "restarted.csv", 3).back());  // rays at 8
+  test::ProcessResult r = run(dir, {"--convergence-restart"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "error: --convergence-restart needs --convergence-csv\n");
+}
+
 // --export-scene writes the scene as this renderer reads it and renders
 // nothing; an unwritable path is one line before loading.
 TEST(ExportScene, WritesTheLoadedSceneAndTheCameraAsJson) {

@@ -9,6 +9,9 @@
 // sampling) and both direct-light estimators. Plus a sky furnace: a plane of
 // albedo rho under a uniform sky Ls has radiance rho Ls at any depth.
 //
+// The renders use the default sampler (Owen-scrambled Sobol points: each
+// pixel's points are scrambled by its own seeds, so pixels stay independent
+// estimates and their spread gives the standard error).
 // Statistics: 16 x 16 pixels, each an independent estimate; per channel
 // |mean - exact| < 5 SE (false failure 5.7e-7 per comparison; at most 3 x 10
 // comparisons per test and engine, so < 2e-5 per test) and SE < 1% of exact.

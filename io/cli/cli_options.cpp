@@ -152,6 +152,7 @@ std::string validate(const Options& o) {
   if (!o.output_path.empty() && !o.scene_path.empty() && std::filesystem::equivalent(o.output_path, o.scene_path, ec))
     return "-f: the output " + o.output_path + " would overwrite the scene file";
   if (o.reference_image.empty() != o.convergence_csv.empty()) return "--reference and --convergence-csv go together";
+  if (o.convergence_restart && o.convergence_csv.empty()) return "--convergence-restart needs --convergence-csv";
   if (o.label.empty() || o.label.find_first_of(",\"\n\r") != std::string::npos)
     return "--label: must be non-empty without commas, quotes or line breaks (it is a CSV field)";
   if (o.engine == Engine::kReference && o.accel == AccelChoice::kBvh4)
@@ -294,6 +295,9 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   path("--convergence-csv", o.convergence_csv,
        "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");
   app.add_option("--label", o.label, "Method name written in the convergence CSV")->type_name("TEXT");
+  app.add_flag("--convergence-restart", o.convergence_restart,
+               "Render each sample count of --convergence-csv from the start, as one render of that many samples "
+               "(its time: the BVH build and that render), instead of continuing from the previous count");
   integer("--tile", raw.tile, "Tile edge in pixels of the work mpirun ranks and --shard jobs share; 64");
   app.add_option("--shard", raw.shard,
                  "Render share I of N (I/N, I from 0) of the tiles into the tile set -f names, for --merge")

@@ -30,6 +30,7 @@ struct Options {
   std::string reference_image;       ///< --reference: converged image for --convergence-csv
   std::string convergence_csv;       ///< --convergence-csv: error vs time log
   std::string label = "render";      ///< --label: method name in the CSV
+  bool convergence_restart = false;  ///< --convergence-restart: each sample count rendered from the start
   int tile_size = 64;                ///< --tile: tile edge for mpirun and --shard
   int shard_index = 0, shard_count = 0;  ///< --shard I/N (count 0: not a shard)
   std::vector<std::string> merge;    ///< --merge OUT PART...: the output, then the parts

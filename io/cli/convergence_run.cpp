@@ -30,7 +30,7 @@ int run_convergence(const Options& o, const EngineRunner& engine, const std::ato
     rs.samples_per_pixel = spp;
     RenderControl control;
     control.cancel = &cancel;
-    if (engine.pass_based()) {
+    if (engine.pass_based() && !o.convergence_restart) {
       if (resumable) control.resume_from = &acc;
       control.on_pass = [&](const Accumulation& a) {
         acc = a;
@@ -39,10 +39,10 @@ int run_convergence(const Options& o, const EngineRunner& engine, const std::ato
     }
     RenderOutput out = engine.render(rs, control);
     if (out.cancelled) break;
-    if (engine.pass_based()) {
+    if (engine.pass_based() && !o.convergence_restart) {
       seconds += out.stats.seconds;
       rays += out.stats.rays();
-    } else {
+    } else {  // a render from the start: its own time and rays
       seconds = engine.build_seconds() + out.stats.seconds;
       rays = out.stats.rays();
     }

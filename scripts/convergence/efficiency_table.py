@@ -1,13 +1,13 @@
 """Markdown tables of the convergence runs, one column per scene:
 - efficiency 1 / (MSE x time), the median over each method's last three
-  doublings (its highest sample counts), relative to light sampling;
-- the time each method needs to reach the RMSE that light sampling reaches
+  doublings (its highest sample counts), relative to the baseline method;
+- the time each method needs to reach the RMSE that the baseline reaches
   with TARGET spp, interpolated on its log-log curve (or extrapolated along
   its last three points' slope when it stops short; "never" when its error no
   longer falls: a biased or blind estimator);
 - each reference's sample count and estimated noise.
 
-Usage: /usr/bin/python3 efficiency_table.py --spp-target 64 --reference-spp N
+Usage: /usr/bin/python3 efficiency_table.py --spp-target 64 --reference-spp N [--baseline default]
            SCENE=COMBINED.csv=REFERENCE.pfm ...
 """
 
@@ -17,7 +17,6 @@ import statistics
 
 from convergence_data import read_curves, reference_noise_rmse
 
-BASELINE = "light"
 
 
 def efficiency(curve, last=3):
@@ -62,17 +61,19 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--spp-target", type=int, default=64)
     ap.add_argument("--reference-spp", type=int, required=True)
+    ap.add_argument("--baseline", default="default", help="the method every ratio is relative to")
     ap.add_argument("scenes", nargs="+", help="SCENE=COMBINED.csv=REFERENCE.pfm")
     args = ap.parse_args()
+    BASELINE = args.baseline
     scenes = [s.split("=") for s in args.scenes]
     curves = {name: read_curves(path) for name, path, _ in scenes}
     methods = list(next(iter(curves.values())).keys())
     names = [name for name, _, _ in scenes]
     header = "| method | " + " | ".join(names) + " |\n|---|" + "---:|" * len(names)
 
-    print(f"Efficiency 1 / (MSE x time) relative to light sampling (median of the last three doublings, "
+    print(f"Efficiency 1 / (MSE x time) relative to `{BASELINE}` (median of the last three doublings, "
           f"{max(max(c.spp) for c in curves[names[0]].values()) // 4}..{max(curves[names[0]][BASELINE].spp)} spp; "
-          f"higher is better; light sampling's absolute value in brackets, in 1 / (radiance^2 s)):\n")
+          f"higher is better; `{BASELINE}`'s absolute value in brackets, in 1 / (radiance^2 s)):\n")
     print(header)
     for m in methods:
         cells = []
@@ -82,7 +83,7 @@ def main():
             cells.append(f"{e:.2f}" + (f" ({base:.3g})" if m == BASELINE else ""))
         print(f"| {m} | " + " | ".join(cells) + " |")
 
-    print(f"\nTime to reach the RMSE that light sampling reaches with {args.spp_target} spp "
+    print(f"\nTime to reach the RMSE that `{BASELINE}` reaches with {args.spp_target} spp "
           f"(log-log interpolation of each curve; wall time, 2 threads):\n")
     print(header)
     targets = {n: curves[n][BASELINE].rmse_at_spp(args.spp_target) for n in names}
@@ -90,7 +91,7 @@ def main():
     for m in methods:
         print(f"| {m} | " + " | ".join(format_seconds(*time_to_reach(curves[n][m], targets[n])) for n in names) + " |")
 
-    print(f"\nReferences: {args.reference_spp} spp of light sampling in two halves (Owen-scrambled Sobol, "
+    print(f"\nReferences: {args.reference_spp} spp of MIS direct light in two halves (Owen-scrambled Sobol, "
           "wavefront engine, seeds 1000003 and 1000004), averaged; noise = RMSE of the average, estimated as "
           "rms(half1 - half2) / 2:\n")
     print("| | " + " | ".join(names) + " |\n|---|" + "---:|" * len(names))

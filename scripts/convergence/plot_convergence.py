@@ -1,9 +1,9 @@
 """Draws one scene's convergence chart: RMSE against the reference (log)
 over wall time (log), one line per method, points at each doubling of the
-samples per pixel. Horizontal guides: light sampling's 64-spp RMSE (the
+samples per pixel. Horizontal guides: the baseline method's 64-spp RMSE (the
 target of the time-to-target table) and the reference's own estimated noise.
 
-Usage: /usr/bin/python3 plot_convergence.py COMBINED.csv REFERENCE.pfm OUT.png"""
+Usage: /usr/bin/python3 plot_convergence.py COMBINED.csv REFERENCE.pfm OUT.png [BASELINE]"""
 
 import os
 import sys
@@ -19,19 +19,19 @@ LINESTYLES = {"direct": "-", "sampler": "--", "adaptive": ":", "roulette": "-.",
 TARGET_SPP = 64
 
 
-def draw(combined_csv, reference_pfm, out_png):
+def draw(combined_csv, reference_pfm, out_png, baseline="default"):
     curves = read_curves(combined_csv)
     scene = os.path.basename(combined_csv)[len("convergence_"):-len(".csv")]
     fig, ax = plt.subplots(figsize=(9, 5.6))
     colours = plt.get_cmap("tab20").colors
     for i, c in enumerate(curves.values()):
         ax.loglog(c.seconds, c.rmse, linestyle=LINESTYLES.get(c.family, "-"), marker="o", markersize=3,
-                  linewidth=2.2 if c.method == "light" else 1.4, color=colours[(2 * i) % 20 + (i // 10) % 2],
+                  linewidth=2.2 if c.method == baseline else 1.4, color=colours[(2 * i) % 20 + (i // 10) % 2],
                   label=f"{c.method} ({c.family})")
-    light = curves.get("light")
-    if light and light.rmse_at_spp(TARGET_SPP) is not None:
-        ax.axhline(light.rmse_at_spp(TARGET_SPP), color="black", linestyle=":", linewidth=0.9,
-                   label=f"light sampling at {TARGET_SPP} spp")
+    base = curves.get(baseline)
+    if base and base.rmse_at_spp(TARGET_SPP) is not None:
+        ax.axhline(base.rmse_at_spp(TARGET_SPP), color="black", linestyle=":", linewidth=0.9,
+                   label=f"{baseline} at {TARGET_SPP} spp")
     noise = reference_noise_rmse(reference_pfm)
     ax.axhline(noise, color="grey", linestyle="--", linewidth=0.9, label="reference's own noise (est.)")
     ax.set_xlabel("wall time, seconds (log; 2 threads, shared machine)")
@@ -46,6 +46,6 @@ def draw(combined_csv, reference_pfm, out_png):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 4:
+    if len(sys.argv) not in (4, 5):
         sys.exit(__doc__)
     draw(*sys.argv[1:])

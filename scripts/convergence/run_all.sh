@@ -8,6 +8,7 @@
 # (small images, few samples: a smoke test) writes only build/convergence_quick/.
 #
 # Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
+#        [--methods FILE --out DIR --baseline NAME]   (a study of other methods, written to DIR only)
 # Not part of CI: a full run takes about 8 minutes on 2 cores with cached
 # references (each new 320x240 reference takes 5-10 minutes).
 set -euo pipefail
@@ -17,11 +18,15 @@ here=scripts/convergence
 quick=0
 scenes="CBspheres_lambertian CBbunny CBempty bunny CBgems CBcoil CBspheres_microfacet_al_ag"
 all_scenes=1   # the README's tables are only replaced by a run over every scene
+methods_file="$here/methods.txt" baseline=default study_out=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
     --scenes) scenes=$2; all_scenes=0; shift ;;
-    *) echo "usage: $0 [--quick] [--scenes \"NAME ...\"]" >&2; exit 2 ;;
+    --methods) methods_file=$2; shift ;;
+    --baseline) baseline=$2; shift ;;
+    --out) study_out=$2; all_scenes=0; shift ;;
+    *) echo "usage: see the header of $0" >&2; exit 2 ;;
   esac
   shift
 done
@@ -31,6 +36,7 @@ if [ "$quick" = 1 ]; then
 else
   width=320 height=240 max_spp=512 ref_spp=16384 out=docs csv_dir=build/convergence/csv
 fi
+if [ -n "$study_out" ]; then out=$study_out csv_dir=$study_out/csv; fi
 depth=5 threads=2
 scene_dir=../shared/scenes/cs184
 python=/usr/bin/python3   # Debian's interpreter, which has python3-matplotlib
@@ -48,7 +54,7 @@ run_log="$out/convergence_run.txt"
   echo "load at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 } > "$run_log"
 
-method_lines() { grep -v '^\s*#' "$here/methods.txt" | grep -v '^\s*$'; }
+method_lines() { grep -v '^\s*#' "$methods_file" | grep -v '^\s*$'; }
 
 for scene in $scenes; do
   file="$scene_dir/$scene.dae"
@@ -59,8 +65,6 @@ for scene in $scenes; do
   while read -r family label args; do
     read -ra extra <<< "$args"
     common=(-t "$threads" -m "$depth" -l 1 -r "$width" "$height" -s "$max_spp" -q)
-    [[ " $args " == *" --engine "* ]] || common+=(--engine wavefront)
-    [[ " $args " == *" -a "* ]] || common+=(-a 16 0)
     csv="$csv_dir/${scene}_$label.csv"
     echo "run_all: $scene $label" >&2
     "$pathtracer" "${common[@]}" "${extra[@]}" --reference "$ref" --convergence-csv "$csv" --label "$label" \
@@ -68,11 +72,11 @@ for scene in $scenes; do
     tail -n +2 "$csv" | sed "s/^/$family,/" >> "$combined.tmp"
   done < <(method_lines)
   mv "$combined.tmp" "$combined"
-  "$python" "$here/plot_convergence.py" "$combined" "$ref" "$out/convergence_$scene.png"
+  "$python" "$here/plot_convergence.py" "$combined" "$ref" "$out/convergence_$scene.png" "$baseline"
 done
 echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$run_log"
 
-tables=("$python" "$here/efficiency_table.py" --spp-target 64 --reference-spp "$ref_spp")
+tables=("$python" "$here/efficiency_table.py" --spp-target 64 --reference-spp "$ref_spp" --baseline "$baseline")
 for scene in $scenes; do
   ref=$(bash "$here/make_reference.sh" "$scene_dir/$scene.dae" "$width" "$height" "$depth" "$ref_spp" 1000003 "$threads" 2> /dev/null)
   tables+=("$scene=$out/convergence_$scene.csv=$ref")
