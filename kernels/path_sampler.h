@@ -24,11 +24,6 @@ struct PathSamplerT {
         sample_k(rs.sampler == PixelSampler::kSobol ? reverse_bits32(sample_index) : sample_key(sample_index)),
         sobol(rs.sampler == PixelSampler::kSobol) {}
 
-  /// From the keys a sampler of the same settings computed (the wavefront
-  /// keeps them per path).
-  PathSamplerT(U pixel_k, U sample_word, PixelSampler kind)
-      : pixel(pixel_k), sample_k(sample_word), sobol(kind == PixelSampler::kSobol) {}
-
   /// Dimension `dim` at `bounce`.
   PT_ALWAYS_INLINE F get1d(uint32_t bounce, uint32_t dim) const {
     if (sobol) return owen_sobol_1d_reversed<U, F>(sample_k, hash32(pixel ^ U(dimension_key(bounce, dim))));

@@ -297,8 +297,9 @@ inline void store_compressed(float* dst, uint32_t mask, vfloatK v) {
 
 /// Each 32-bit lane's bits in reverse order (bit 0 <-> bit 31). xsimd 8.1 has
 /// no bit reversal: on x86 two nibble lookups by byte shuffle reverse each
-/// byte and a third shuffle reverses the bytes of a lane (7 instructions
-/// against 25 shifts and masks); aarch64 has both steps as instructions.
+/// byte and a third shuffle reverses the bytes of a lane (7 instructions per
+/// 128 or 512 bits against 25 shifts and masks); aarch64 has both steps as
+/// instructions.
 inline vuintK reverse_bits(vuintK v) {
 #if defined(__x86_64__)
   alignas(64) static constexpr uint8_t kLowNibbleToHigh[64] = {
@@ -321,12 +322,17 @@ inline vuintK reverse_bits(vuintK v) {
                                         _mm512_shuffle_epi8(_mm512_load_si512(kHighNibbleToLow), hi));
   return _mm512_shuffle_epi8(bytes, _mm512_load_si512(kByteSwap));
 #elif XSIMD_WITH_AVX2
+  __m256i low_lut = _mm256_load_si256(reinterpret_cast<const __m256i*>(kLowNibbleToHigh));
+  __m256i high_lut = _mm256_load_si256(reinterpret_cast<const __m256i*>(kHighNibbleToLow));
+  __m256i swap = _mm256_load_si256(reinterpret_cast<const __m256i*>(kByteSwap));
+  // Register operands only: qemu 7.2 (Debian 12's qemu-user, under which the
+  // emulated-CPU test runs this level) computes the 256-bit vpshufb with a
+  // memory operand wrongly, and a render that contains one differs there.
+  asm("" : "+x"(low_lut), "+x"(high_lut), "+x"(swap));
   const __m256i x = v, nibble = _mm256_set1_epi8(0x0F);
   const __m256i lo = _mm256_and_si256(x, nibble), hi = _mm256_and_si256(_mm256_srli_epi16(x, 4), nibble);
-  const __m256i bytes =
-      _mm256_or_si256(_mm256_shuffle_epi8(_mm256_load_si256(reinterpret_cast<const __m256i*>(kLowNibbleToHigh)), lo),
-                      _mm256_shuffle_epi8(_mm256_load_si256(reinterpret_cast<const __m256i*>(kHighNibbleToLow)), hi));
-  return _mm256_shuffle_epi8(bytes, _mm256_load_si256(reinterpret_cast<const __m256i*>(kByteSwap)));
+  const __m256i bytes = _mm256_or_si256(_mm256_shuffle_epi8(low_lut, lo), _mm256_shuffle_epi8(high_lut, hi));
+  return _mm256_shuffle_epi8(bytes, swap);
 #else
   const __m128i x = v, nibble = _mm_set1_epi8(0x0F);
   const __m128i lo = _mm_and_si128(x, nibble), hi = _mm_and_si128(_mm_srli_epi16(x, 4), nibble);

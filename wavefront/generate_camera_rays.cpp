@@ -49,7 +49,7 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
     }
     const vfloatK one(1.0f), zero(0.0f);
     store_lanes(paths, i0,
-                PathLanes{.pixel = pixel, .sample = sample, .pixel_key = ps.pixel, .sample_word = ps.sample_k,
+                PathLanes{.pixel = pixel, .sample = sample,
                           .beta_r = one, .beta_g = one, .beta_b = one, .radiance_r = zero, .radiance_g = zero,
                           .radiance_b = zero, .bsdf_pdf = zero});
     store_lanes(rays, i0,

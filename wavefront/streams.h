@@ -8,10 +8,11 @@
 
 namespace pt::wf {
 
-/// 44 bytes per path: identity, random keys, throughput, radiance so far, and
-/// the pdf of the last BSDF sample (for MIS when its ray finds a light).
+/// 36 bytes per path: identity (whose sampler the stages rebuild:
+/// sampler_lanes.h), throughput, radiance so far, and the pdf of the last
+/// BSDF sample (for MIS when its ray finds a light).
 #define PT_PATH_FIELDS(X)                                                         \
-  X(uint32_t, pixel) X(uint32_t, sample) X(uint32_t, pixel_key) X(uint32_t, sample_word) \
+  X(uint32_t, pixel) X(uint32_t, sample)                                          \
   X(float, beta_r) X(float, beta_g) X(float, beta_b)                              \
   X(float, radiance_r) X(float, radiance_g) X(float, radiance_b) X(float, bsdf_pdf)
 struct PathState {
