@@ -115,7 +115,9 @@ function(pt_add_isa_objects target)
       OUTPUT ${out}
       COMMAND bash ${PROJECT_SOURCE_DIR}/scripts/build/localize_isa_objects.sh
               ${CMAKE_LINKER} ${PT_OBJCOPY} ${PT_NM} isa_${level} ${out} $<TARGET_OBJECTS:${objects}>
-      DEPENDS $<TARGET_OBJECTS:${objects}> ${PROJECT_SOURCE_DIR}/scripts/build/localize_isa_objects.sh
+      # The object library's target name orders the build (Makefile generators
+      # have no rule for another target's objects); its objects re-run the step.
+      DEPENDS ${objects} $<TARGET_OBJECTS:${objects}> ${PROJECT_SOURCE_DIR}/scripts/build/localize_isa_objects.sh
       COMMAND_EXPAND_LISTS VERBATIM
       COMMENT "Linking the ${level} kernels of ${target} with local symbols")
     target_sources(${target} PRIVATE ${out})
