@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bvh/scene_bvh4.h"
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 #include "incoherent_batch.h"
 #include "ray_sets.h"
 #include "bvh/scene_bvh2.h"

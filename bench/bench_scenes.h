@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 
 namespace pt::bench {
 

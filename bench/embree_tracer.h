@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "kernels/isa.h"
-#include "kernels/ray.h"
-#include "kernels/scene.h"
+#include "kernels/simd/isa.h"
+#include "kernels/math/ray.h"
+#include "kernels/scene/scene.h"
 
 namespace pt::bench {
 

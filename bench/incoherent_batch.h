@@ -12,7 +12,7 @@
 #include <span>
 
 #include "bvh/scene_bvh4.h"
-#include "kernels/bbox.h"
+#include "kernels/math/bbox.h"
 
 namespace pt::bench {
 

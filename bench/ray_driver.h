@@ -12,7 +12,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "kernels/simd.h"
+#include "kernels/simd/simd.h"
 
 namespace pt::bench {
 

@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "kernels/ray.h"
-#include "kernels/scene.h"
+#include "kernels/math/ray.h"
+#include "kernels/scene/scene.h"
 
 namespace pt::bench {
 

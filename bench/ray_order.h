@@ -9,8 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "kernels/bbox.h"
-#include "kernels/ray.h"
+#include "kernels/math/bbox.h"
+#include "kernels/math/ray.h"
 
 namespace pt::bench {
 

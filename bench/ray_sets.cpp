@@ -5,10 +5,10 @@
 #include <random>
 
 #include "io/camera_setup.h"
-#include "kernels/frame.h"
-#include "kernels/sampling.h"
-#include "kernels/shading.h"
-#include "kernels/surface.h"
+#include "kernels/math/frame.h"
+#include "kernels/math/sampling.h"
+#include "kernels/transport/shading.h"
+#include "kernels/transport/surface.h"
 
 namespace pt::bench {
 namespace {

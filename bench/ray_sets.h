@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
-#include "kernels/ray.h"
-#include "kernels/scene.h"
+#include "kernels/math/ray.h"
+#include "kernels/scene/scene.h"
 
 namespace pt::bench {
 

@@ -14,7 +14,7 @@
 #include <oneapi/tbb/parallel_reduce.h>
 
 #include "bvh2.h"
-#include "kernels/simd.h"
+#include "kernels/simd/simd.h"
 
 namespace pt {
 namespace {

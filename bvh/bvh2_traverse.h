@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "bvh2.h"
-#include "kernels/ray.h"
+#include "kernels/math/ray.h"
 
 namespace pt {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "huge_page_allocator.h"
-#include "kernels/simd.h"
+#include "kernels/simd/simd.h"
 
 namespace pt {
 

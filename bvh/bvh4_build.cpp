@@ -12,7 +12,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "bvh4_collapse.h"
-#include "kernels/ray.h"
+#include "kernels/math/ray.h"
 #include "presplit.h"
 
 namespace pt {

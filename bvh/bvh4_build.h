@@ -11,7 +11,7 @@
 #include "bvh2.h"
 #include "bvh4.h"
 #include "bvh4_collapse.h"
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

@@ -9,7 +9,7 @@
 #include <array>
 #include <cassert>
 
-#include "kernels/ray.h"
+#include "kernels/math/ray.h"
 
 namespace pt {
 namespace {

@@ -10,8 +10,8 @@
 #include <cstdint>
 
 #include "bvh4.h"
-#include "kernels/ray.h"
-#include "kernels/simd.h"
+#include "kernels/math/ray.h"
+#include "kernels/simd/simd.h"
 
 namespace pt {
 

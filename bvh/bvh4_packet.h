@@ -17,8 +17,8 @@
 #include "bvh4.h"
 #include "bvh4_node_test.h"
 #include "bvh4_traverse.h"
-#include "kernels/ray.h"
-#include "kernels/simd.h"
+#include "kernels/math/ray.h"
+#include "kernels/simd/simd.h"
 
 #ifndef PT_ISA_NS
 #error "bvh4_packet.h is for code compiled once per instruction-set level"

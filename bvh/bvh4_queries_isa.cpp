@@ -1,5 +1,5 @@
 // The BVH4 query table of one instruction-set level (compiled once per level,
-// see kernels/isa.h): the inline queries of scene_bvh4_queries.h behind
+// see kernels/simd/isa.h): the inline queries of scene_bvh4_queries.h behind
 // function pointers, and their loops over ranges of rays.
 #include <algorithm>
 

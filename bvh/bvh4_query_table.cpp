@@ -1,7 +1,7 @@
 // The query table of each compiled instruction-set level.
 #include "bvh4_query_table.h"
 
-#include "kernels/isa_list.h"
+#include "kernels/simd/isa_list.h"
 
 namespace pt {
 

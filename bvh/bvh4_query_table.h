@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <span>
 
-#include "kernels/isa.h"
-#include "kernels/ray.h"
+#include "kernels/simd/isa.h"
+#include "kernels/math/ray.h"
 #include "traversal_counters.h"
 
 namespace pt {

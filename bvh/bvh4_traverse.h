@@ -14,7 +14,7 @@
 #include "bvh2.h"
 #include "bvh4.h"
 #include "bvh4_node_test.h"
-#include "kernels/ray.h"
+#include "kernels/math/ray.h"
 #include "traversal_counters.h"
 #include "triangle4_intersect.h"
 

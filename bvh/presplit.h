@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "kernels/bbox.h"
+#include "kernels/math/bbox.h"
 
 namespace pt {
 

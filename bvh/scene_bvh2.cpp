@@ -2,8 +2,8 @@
 #include "scene_bvh2.h"
 
 #include "bvh2_traverse.h"
-#include "kernels/sphere_intersect.h"
-#include "kernels/triangle_intersect.h"
+#include "kernels/scene/sphere_intersect.h"
+#include "kernels/scene/triangle_intersect.h"
 
 namespace pt {
 

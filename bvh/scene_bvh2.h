@@ -8,8 +8,8 @@
 #include <cstdint>
 
 #include "bvh2.h"
-#include "kernels/ray.h"
-#include "kernels/scene.h"
+#include "kernels/math/ray.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

@@ -14,9 +14,9 @@
 #include "bvh4.h"
 #include "bvh4_build.h"
 #include "bvh4_query_table.h"
-#include "kernels/isa.h"
-#include "kernels/ray.h"
-#include "kernels/scene.h"
+#include "kernels/simd/isa.h"
+#include "kernels/math/ray.h"
+#include "kernels/scene/scene.h"
 #include "traversal_counters.h"
 
 namespace pt {

@@ -9,7 +9,7 @@
 
 #include "bvh4_packet.h"
 #include "bvh4_traverse.h"
-#include "kernels/sphere_intersect.h"
+#include "kernels/scene/sphere_intersect.h"
 #include "scene_bvh4.h"
 
 #ifndef PT_ISA_NS

@@ -2,15 +2,15 @@
 // Moller-Trumbore on (v0, e1, e2) rows and the watertight test of Woop, Benthin
 // and Wald (2013) on (v0, v1, v2) rows. Both compare numerators against the
 // determinant and divide only for blocks that have a hit. Results follow the
-// scalar tests of kernels/triangle_intersect.h: tmin <= t < tmax, u weights
+// scalar tests of kernels/scene/triangle_intersect.h: tmin <= t < tmax, u weights
 // v1, v weights v2, degenerate triangles and NaN never hit.
 #pragma once
 
 #include <cstdint>
 
 #include "bvh4.h"
-#include "kernels/ray.h"
-#include "kernels/simd.h"
+#include "kernels/math/ray.h"
+#include "kernels/simd/simd.h"
 
 namespace pt {
 

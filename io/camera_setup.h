@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "kernels/camera.h"
-#include "kernels/scene.h"
+#include "kernels/scene/camera.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

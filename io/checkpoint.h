@@ -7,10 +7,10 @@
 #include <optional>
 #include <string>
 
-#include "kernels/accumulation.h"
-#include "kernels/camera.h"
-#include "kernels/render_settings.h"
-#include "kernels/scene.h"
+#include "kernels/render/accumulation.h"
+#include "kernels/scene/camera.h"
+#include "kernels/render/render_settings.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

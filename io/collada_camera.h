@@ -6,7 +6,7 @@
 #include <pugixml.hpp>
 
 #include "collada_document.h"
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 #include "mat4.h"
 
 namespace pt {

@@ -13,7 +13,7 @@
 
 #include <pugixml.hpp>
 
-#include "kernels/vec3.h"
+#include "kernels/math/vec3.h"
 #include "scene_error.h"
 
 namespace pt {

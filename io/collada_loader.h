@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "io/load_limits.h"
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

@@ -10,7 +10,7 @@
 #include <pugixml.hpp>
 
 #include "collada_document.h"
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

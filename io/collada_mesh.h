@@ -11,7 +11,7 @@
 #include <pugixml.hpp>
 
 #include "collada_document.h"
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

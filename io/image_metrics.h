@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "kernels/vec3.h"
+#include "kernels/math/vec3.h"
 
 namespace pt {
 

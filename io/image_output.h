@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/film.h"
+#include "kernels/render/film.h"
 
 namespace pt {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "kernels/vec3.h"
+#include "kernels/math/vec3.h"
 
 namespace pt {
 

@@ -7,8 +7,8 @@
 
 #include <string>
 
-#include "kernels/camera.h"
-#include "kernels/scene.h"
+#include "kernels/scene/camera.h"
+#include "kernels/scene/scene.h"
 
 namespace pt {
 

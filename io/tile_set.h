@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
-#include "kernels/film.h"
-#include "kernels/render_settings.h"
-#include "kernels/render_stats.h"
+#include "kernels/render/film.h"
+#include "kernels/render/render_settings.h"
+#include "kernels/render/render_stats.h"
 
 namespace pt {
 

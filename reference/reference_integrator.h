@@ -12,16 +12,16 @@
 #include <cstdint>
 
 #include "bvh/scene_bvh2.h"
-#include "kernels/bounce_light.h"
-#include "kernels/direct_light.h"
-#include "kernels/path_rules.h"
-#include "kernels/path_sampler.h"
-#include "kernels/render_settings.h"
-#include "kernels/render_stats.h"
-#include "kernels/scene.h"
-#include "kernels/shading.h"
-#include "kernels/surface.h"
-#include "kernels/surface_bsdf.h"
+#include "kernels/transport/bounce_light.h"
+#include "kernels/transport/direct_light.h"
+#include "kernels/transport/path_rules.h"
+#include "kernels/transport/path_sampler.h"
+#include "kernels/render/render_settings.h"
+#include "kernels/render/render_stats.h"
+#include "kernels/scene/scene.h"
+#include "kernels/transport/shading.h"
+#include "kernels/transport/surface.h"
+#include "kernels/transport/surface_bsdf.h"
 
 namespace pt::reference {
 

@@ -8,9 +8,9 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "kernels/pixel_accumulator.h"
-#include "kernels/camera_sample.h"
-#include "kernels/sample_schedule.h"
+#include "kernels/render/pixel_accumulator.h"
+#include "kernels/transport/camera_sample.h"
+#include "kernels/render/sample_schedule.h"
 #include "reference_integrator.h"
 
 namespace pt::reference {

@@ -5,7 +5,7 @@
 // every instruction-set level.
 #pragma once
 
-#include "kernels/render_job.h"
+#include "kernels/render/render_job.h"
 #include "bvh/scene_bvh2.h"
 
 namespace pt::reference {

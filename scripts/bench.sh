@@ -1,16 +1,77 @@
 #!/usr/bin/env bash
-# The ray tracing benchmark in one command: builds bench_trace (Release; the
-# kernels run at the level PT_ISA names, default the widest this CPU runs, and
-# Embree at the same instruction set), runs every scene side by side with
-# Embree (median of 5 repetitions), writes out/bench.json (Google Benchmark JSON) and prints
-# out/bench_table.md. Arguments go to bench_trace, e.g. --quick for a smoke
-# run (two small scenes, one short repetition) or --benchmark_filter=CBbunny.
+# The benchmarks in one command (Release build in build/, any generator; JSON
+# in out/ and a table from scripts/bench_tables.py):
+#   bash scripts/bench.sh trace [--quick] [bench_trace flags]   this BVH4 against Embree on every scene and ray set,
+#                                                               median of 5 (--quick: two small scenes, one short run)
+#   bash scripts/bench.sh render [REPS] [flags]                 whole renders by engine, REPS interleaved runs (3)
+#   bash scripts/bench.sh levels [REPS] [SCENE_REGEX]           both at every SIMD level this CPU runs
+#   bash scripts/bench.sh dispatch [REPS]                       dispatched binary against single-level builds
+# The kernels run at the level PT_ISA names (default: the widest this CPU runs),
+# Embree restricted to the same instruction set.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build --target bench_trace trace_rays
+tables="/usr/bin/python3 scripts/bench_tables.py"
+build() { cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null && cmake --build build -j "$(nproc)" --target "$@" > /dev/null; }
+levels_this_cpu() { ./build/cli/pathtracer --list-isa | awk '$4 == "supported" {print $1}'; }
 mkdir -p out
-repeat=(--benchmark_repetitions=5 --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
-for arg in "$@"; do [ "$arg" = "--quick" ] && repeat=(--benchmark_min_time=0.02); done
-./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench.json --benchmark_out_format=json
-/usr/bin/python3 scripts/bench_table.py out/bench.json | tee out/bench_table.md
+command=${1:-}
+shift || true
+case "$command" in
+  trace)
+    build bench_trace trace_rays
+    repeat=(--benchmark_repetitions=5 --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
+    for arg in "$@"; do [ "$arg" = "--quick" ] && repeat=(--benchmark_min_time=0.02); done
+    ./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench.json --benchmark_out_format=json
+    $tables trace out/bench.json | tee out/bench_table.md ;;
+  render)
+    reps=${1:-3}
+    shift || true
+    build bench_render
+    ./build/bench/bench_render --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
+      --benchmark_out=out/bench_render.json --benchmark_out_format=json "$@"
+    $tables render out/bench_render.json | tee out/bench_render_table.md ;;
+  levels)
+    reps=${1:-3} scenes=${2:-'CBbunny|bunny|CBcoil|CBbunny_x16'}
+    build bench_trace bench_render pathtracer
+    mkdir -p out/levels
+    mapfile -t levels < <(levels_this_cpu)
+    for level in "${levels[@]}"; do
+      echo "bench.sh levels: $level"
+      PT_ISA=$level ./build/bench/bench_trace --benchmark_filter="^(trace|build)/($scenes)/" \
+        --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true --benchmark_min_time=0.3 \
+        --benchmark_out="out/levels/trace_$level.json" --benchmark_out_format=json > /dev/null
+    done
+    for ((r = 0; r < reps; ++r)); do  # renders interleaved across levels
+      for level in "${levels[@]}"; do
+        PT_ISA=$level ./build/bench/bench_render --benchmark_filter='CBbunny.dae/(wavefront|megakernel|reference)/' \
+          --benchmark_out="out/levels/render_${level}_$r.json" --benchmark_out_format=json > /dev/null
+      done
+    done
+    $tables levels "${levels[@]}" | tee out/levels/table.md ;;
+  dispatch)
+    reps=${1:-5}
+    build bench_render pathtracer
+    best=$(./build/cli/pathtracer --list-isa | awk '$5 == "auto" {print $1}')
+    declare -A march=([sse4.2]=x86-64-v2 [avx2]=x86-64-v3 [avx512]=x86-64-v4 [neon]=native)
+    march[$best]=native
+    mapfile -t levels < <(levels_this_cpu)
+    for level in "${levels[@]}"; do
+      cmake -S . -B "build-single-$level" -DCMAKE_BUILD_TYPE=Release -DPT_NATIVE=ON -DPT_MARCH="${march[$level]}" \
+            -DPT_BUILD_TESTS=OFF > /dev/null
+      cmake --build "build-single-$level" -j "$(nproc)" --target bench_render > /dev/null
+    done
+    mkdir -p out/dispatch
+    filter='CBbunny.dae/(wavefront|megakernel)/'
+    for ((r = 0; r < reps; ++r)); do
+      for level in "${levels[@]}"; do
+        PT_ISA=$level ./build/bench/bench_render --benchmark_filter="$filter" \
+          --benchmark_out="out/dispatch/dispatched_${level}_$r.json" --benchmark_out_format=json > /dev/null
+        "./build-single-$level/bench/bench_render" --benchmark_filter="$filter" \
+          --benchmark_out="out/dispatch/single_${level}_$r.json" --benchmark_out_format=json > /dev/null
+      done
+    done
+    $tables dispatch "${levels[@]}" | tee out/dispatch/table.md ;;
+  *)
+    sed -n '2,10p' "$0" >&2
+    exit 2 ;;
+esac

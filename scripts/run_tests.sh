@@ -1,18 +1,30 @@
 #!/usr/bin/env bash
 # Second command of the README: build and run the whole test suite.
-#  1. Release build (every instruction-set level in one binary, with Open MPI:
-#     the mpirun tests run); ctest once per level, each level forced through
-#     PT_ISA; a level this CPU cannot run is reported as skipped.
-#  2. AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/, -O1,
-#     -march=native: the CPU's widest level, and the native build's path;
-#     without MPI: the build everyone without Open MPI gets), with the replay
-#     of the fuzz regression files.
-#  3. On x86-64: an aarch64 cross build (build-aarch64/), whose kernel, BVH,
-#     engine-agreement, furnace and loader tests run under qemu-aarch64.
+#  1. Release build in build/ with CMake's default generator, Unix Makefiles
+#     (the standard recipe; a build/ made earlier keeps its generator): every
+#     instruction-set level in one binary, with Open MPI, so the mpirun tests
+#     run; ctest once per level, each level forced through PT_ISA; a level this
+#     CPU cannot run is reported as skipped.
+#  2. AddressSanitizer + UndefinedBehaviorSanitizer build with Ninja
+#     (build-asan/, -O1, -march=native: the CPU's widest level and the native
+#     build's path; without MPI: the build everyone without Open MPI gets):
+#     every test but those labelled `slow` (over 5 s there; they ran in step 1).
+#  3. On x86-64: an aarch64 cross build with Ninja (build-aarch64/), whose
+#     kernel, BVH, engine-agreement, furnace and loader tests run under
+#     qemu-aarch64.
+# So every run builds and tests with both generators.
+# Tests are chosen by their ctest labels (tests/CMakeLists.txt):
+#   --labels REGEX   run only the tests whose labels match, in every step
 # Installs missing dependencies first, so it also works on a fresh machine.
 # PT_SKIP_SANITIZERS=1 and PT_SKIP_AARCH64=1 leave steps 2 and 3 out.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+labels=()
+if [ "${1:-}" = --labels ]; then
+  labels=(-L "$2")
+  shift 2
+fi
+[ $# -eq 0 ] || { echo "usage: $0 [--labels REGEX]" >&2; exit 2; }
 host=$(uname -m)
 if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   bash scripts/install_deps.sh --aarch64
@@ -31,9 +43,25 @@ ctest_counts() {
   echo "${total:-0} tests, $(( ${total:-0} - ${failed_n:-0} - skipped )) passed, ${failed_n:-0} failed, $skipped skipped"
 }
 
-# ---------------------------------------------------------------- 1. Release
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build
+# ctest in DIR with the label selection; stdin from /dev/null: nothing a test
+# runs may read what the calling loop reads.
+run_ctest() {  # dir log [ctest args]
+  local dir=$1 log=$2
+  shift 2
+  if ctest --test-dir "$dir" --output-on-failure -j "$(nproc)" "${labels[@]}" "$@" < /dev/null 2>&1 | tee "$log"; then
+    :
+  else
+    failed=1
+  fi
+}
+
+# --------------------------------------------------------------- 1. Release
+generator=()
+[ -f build/CMakeCache.txt ] || generator=(-G "Unix Makefiles")
+start=$(date +%s)
+cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j "$(nproc)"
+echo "run_tests: Release build took $(( $(date +%s) - start )) s ($(grep -oP 'CMAKE_GENERATOR:INTERNAL=\K.*' build/CMakeCache.txt))"
 while read -r level lanes _ support _; do
   if [ "$support" != supported ]; then
     echo "run_tests: level $level SKIPPED: this CPU does not run it"
@@ -41,35 +69,21 @@ while read -r level lanes _ support _; do
     continue
   fi
   echo "run_tests: Release tests at level $level ($lanes lanes)"
-  log=build/ctest_$level.log
-  # stdin from /dev/null: nothing a test runs may read the level list this loop reads
-  if PT_ISA=$level ctest --test-dir build --output-on-failure -j "$(nproc)" < /dev/null 2>&1 | tee "$log"; then :; else
-    failed=1
-  fi
-  summary+=("release $level ($lanes lanes): $(ctest_counts "$log")")
-done < <(./build/io/cli/pathtracer --list-isa)
+  PT_ISA=$level run_ctest build "build/ctest_$level.log"
+  summary+=("release $level ($lanes lanes): $(ctest_counts "build/ctest_$level.log")")
+done < <(./build/cli/pathtracer --list-isa)
 
 # ------------------------------------------------------------- 2. Sanitizers
 if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   start=$(date +%s)
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_SANITIZE=ON -DPT_NATIVE=ON -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF
   cmake --build build-asan
-  # Left out under the sanitizers (they run in Release above): the tests that
-  # take over 5 s there, measured at 3-30x their Release time (statistical
-  # renders, furnaces, the large BVH scenes, a SIGINT timed against a render).
-  slow='^(WhiteFurnace|EstimatorAgreement|EmitterFormFactor|EngineAgreement|Determinism|Resume|CommandLine|CourseImages)\.'
-  slow+='|^Public/BvhSceneTest\.ClosestHitsAndOcclusionEqualBruteForce/(bunny|CBbunny|CBcoil|cow|beetle)( |$)'
-  slow+='|^(ThreadDeterminism\.CornellSceneWithAdaptiveSampling|RandomNumbers\.NoTwoPathsShareAllTheirNumbers'
-  slow+='|SkyFurnace\.PlaneUnderUniformSkyHasRadianceRhoTimesLs|AdaptiveSampling\.StopsOnlyAtChecks.*'
-  slow+='|AdaptiveSampling\.NoisyPixelsAreSampledToTheMaximum|Sobol\.HashScramblingHasTheErrorOfTrueOwenScrambling'
-  slow+='|Sobol\.ErrorAtAStepInRadianceFallsFasterThanIndependentSampling)$'
-  level=$(./build-asan/io/cli/pathtracer --list-isa | awk '{print $1}')
-  log=build-asan/ctest.log
-  if ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
-     LSAN_OPTIONS=suppressions="$PWD/scripts/build/lsan_suppressions.txt":print_suppressions=0 \
-     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-     ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -E "$slow" 2>&1 | tee "$log"; then :; else failed=1; fi
-  summary+=("asan+ubsan native $level: $(ctest_counts "$log") (the slow statistical tests left out)")
+  level=$(./build-asan/cli/pathtracer --list-isa | awk '{print $1}')
+  ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+  LSAN_OPTIONS=suppressions="$PWD/tests/support/lsan_suppressions.txt":print_suppressions=0 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    run_ctest build-asan build-asan/ctest.log -LE slow
+  summary+=("asan+ubsan native $level: $(ctest_counts build-asan/ctest.log) (the tests labelled slow left out)")
   echo "run_tests: sanitizer build and tests took $(( $(date +%s) - start )) s"
 fi
 
@@ -77,14 +91,15 @@ fi
 if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   start=$(date +%s)
   cmake -S . -B build-aarch64 -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF \
-        -DCMAKE_TOOLCHAIN_FILE=scripts/build/aarch64-linux-gnu.cmake
+        -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake
   programs=(test_isa test_sampling test_geometry test_loader test_bvh4_build test_bvh4_traversal test_bvh4_robustness
             test_bvh4_batch test_engines test_light_transport test_engine_contract)
   mkdir -p build-aarch64/qemu
   cmake --build build-aarch64 --target "${programs[@]}"
   echo "run_tests: aarch64 (neon) tests under qemu-aarch64: ${programs[*]}"
   printf '%s\n' "${programs[@]}" | xargs -P "$(nproc)" -I{} sh -c \
-    'timeout 1200 qemu-aarch64 build-aarch64/tests/{} --gtest_brief=1 > build-aarch64/qemu/{}.log 2>&1; echo $? > build-aarch64/qemu/{}.status'
+    'dir=$(dirname "$(find build-aarch64/tests -name {} -type f -executable | head -1)");
+     timeout 1200 qemu-aarch64 "$dir/{}" --gtest_brief=1 > build-aarch64/qemu/{}.log 2>&1; echo $? > build-aarch64/qemu/{}.status'
   passed=0 failed_n=0 skipped=0
   for p in "${programs[@]}"; do
     log=build-aarch64/qemu/$p.log

@@ -5,7 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build
+# The standard CMake recipe, with CMake's default generator (Unix Makefiles);
+# -G Ninja works too. A build/ made earlier keeps its generator.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j "$(nproc)"
 mkdir -p out
-./build/io/cli/pathtracer -t "$(nproc)" -s 64 -l 4 -m 5 -r 480 360 -f out/cornell_spheres.png
+./build/cli/pathtracer -t "$(nproc)" -s 64 -l 4 -m 5 -r 480 360 -f out/cornell_spheres.png

@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 minutes=${1:-30}
 scene=${2:-../shared/scenes/cs184/CBbunny.dae}
 [ -f "$scene" ] || scene=scenes/cornell_spheres.dae
-bin=build/io/cli/pathtracer
+bin=build/cli/pathtracer
 [ -x "$bin" ] || { echo "build first (scripts/setup.sh)"; exit 1; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

@@ -1,7 +1,7 @@
 // The engines' entry points: the active level's table.
 #include "engines.h"
 
-#include "kernels/isa_list.h"
+#include "kernels/simd/isa_list.h"
 
 namespace pt {
 PT_DECLARE_ISA_TABLES(wf::EngineTable, kEngines)

@@ -6,8 +6,8 @@
 
 #include <cstddef>
 
-#include "kernels/isa.h"
-#include "kernels/render_job.h"
+#include "kernels/simd/isa.h"
+#include "kernels/render/render_job.h"
 #include "stage_stats.h"
 
 namespace pt {

@@ -1,5 +1,5 @@
 // The engine table of one instruction-set level (compiled once per level, see
-// kernels/isa.h): the wavefront and the megakernel instantiated over each
+// kernels/simd/isa.h): the wavefront and the megakernel instantiated over each
 // tracer.
 #include "bvh/tracers.h"
 #include "engines.h"

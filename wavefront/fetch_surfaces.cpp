@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "kernels/surface.h"
+#include "kernels/transport/surface.h"
 
 namespace pt::wf {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <cstddef>
 
-#include "kernels/frame.h"
-#include "kernels/simd.h"
+#include "kernels/math/frame.h"
+#include "kernels/simd/simd.h"
 #include "streams.h"
 #include "wave_context.h"
 

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 
-#include "kernels/camera.h"
-#include "kernels/path_sampler.h"
-#include "kernels/sample_dimensions.h"
+#include "kernels/scene/camera.h"
+#include "kernels/transport/path_sampler.h"
+#include "kernels/transport/sample_dimensions.h"
 #include "soa_lanes.h"
 
 namespace pt::wf {

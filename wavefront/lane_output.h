@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "kernels/frame.h"
-#include "kernels/simd.h"
+#include "kernels/math/frame.h"
+#include "kernels/simd/simd.h"
 #include "soa_lanes.h"
 
 namespace pt::wf {

@@ -7,7 +7,7 @@
 
 #include <cstddef>
 
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 #include "streams.h"
 #include "wave_context.h"
 

@@ -1,19 +1,19 @@
 // The megakernel engine: each path traced start to finish, one at a time, over
 // the same tracer, pass schedule, threads and accumulators as the wavefront,
-// by the same path rules and per-sample math (kernels/path_rules.h,
-// kernels/direct_light.h) taken one lane wide. It exists to measure what the
+// by the same path rules and per-sample math (kernels/transport/path_rules.h,
+// kernels/transport/direct_light.h) taken one lane wide. It exists to measure what the
 // wavefront's queues and SIMD stages buy. Compiled per instruction-set level;
 // engines.h is the entry point.
 #pragma once
 
 #include <chrono>
 
-#include "kernels/bounce_light.h"
-#include "kernels/camera_sample.h"
-#include "kernels/direct_light.h"
-#include "kernels/path_rules.h"
-#include "kernels/surface_bsdf.h"
-#include "kernels/render_job.h"
+#include "kernels/transport/bounce_light.h"
+#include "kernels/transport/camera_sample.h"
+#include "kernels/transport/direct_light.h"
+#include "kernels/transport/path_rules.h"
+#include "kernels/transport/surface_bsdf.h"
+#include "kernels/render/render_job.h"
 #include "pass_driver.h"
 
 namespace pt::wf {

@@ -1,5 +1,5 @@
 // The pass loop shared by the wavefront and megakernel engines: pixels in
-// tile order, passes of samples (kernels/sample_schedule.h), chunks of pixels
+// tile order, passes of samples (kernels/render/sample_schedule.h), chunks of pixels
 // spread over oneTBB threads, per-pixel accumulators in sample order, the
 // adaptive test between passes, progress and cancellation.
 #pragma once
@@ -14,9 +14,9 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
-#include "kernels/accumulation.h"
-#include "kernels/render_job.h"
-#include "kernels/sample_schedule.h"
+#include "kernels/render/accumulation.h"
+#include "kernels/render/render_job.h"
+#include "kernels/render/sample_schedule.h"
 
 namespace pt::wf {
 

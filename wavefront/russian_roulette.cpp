@@ -1,9 +1,9 @@
 // russian_roulette: SIMD decisions, compressed stores for the compaction.
 #include "russian_roulette.h"
 
-#include "kernels/path_rules.h"
-#include "kernels/sample_dimensions.h"
-#include "kernels/shading.h"
+#include "kernels/transport/path_rules.h"
+#include "kernels/transport/sample_dimensions.h"
+#include "kernels/transport/shading.h"
 #include "lane_output.h"
 #include "sampler_lanes.h"
 

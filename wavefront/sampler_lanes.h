@@ -4,8 +4,8 @@
 // ones under qemu 7.2's AVX2 emulation, which the emulated-CPU test runs.)
 #pragma once
 
-#include "kernels/path_sampler.h"
-#include "kernels/simd.h"
+#include "kernels/transport/path_sampler.h"
+#include "kernels/simd/simd.h"
 #include "streams.h"
 
 namespace pt::wf {

@@ -2,9 +2,9 @@
 // lane takes the same lobe code. No light samples (a delta lobe cannot be
 // hit by one); the continuation is marked delta (bsdf_pdf < 0) so that the
 // light it finds counts at full weight (shade_diffuse's add_emission).
-#include "kernels/bsdf.h"
-#include "kernels/sample_dimensions.h"
-#include "kernels/surface.h"
+#include "kernels/transport/bsdf.h"
+#include "kernels/transport/sample_dimensions.h"
+#include "kernels/transport/surface.h"
 #include "lane_output.h"
 #include "shade_kernels.h"
 

@@ -2,15 +2,15 @@
 // emitters or escaped. Per K-lane chunk, fetch surfaces, then emission (and
 // light found by the previous BSDF sample), direct light and BSDF sampling
 // as separate steps, by the path rules and per-sample math every engine
-// shares (kernels/path_rules.h, kernels/direct_light.h) taken K lanes wide.
+// shares (kernels/transport/path_rules.h, kernels/transport/direct_light.h) taken K lanes wide.
 #include "shade_kernels.h"
 
 #include "fetch_surfaces.h"
-#include "kernels/bounce_light.h"
-#include "kernels/direct_light.h"
-#include "kernels/path_sampler.h"
-#include "kernels/shading.h"
-#include "kernels/surface.h"
+#include "kernels/transport/bounce_light.h"
+#include "kernels/transport/direct_light.h"
+#include "kernels/transport/path_sampler.h"
+#include "kernels/transport/shading.h"
+#include "kernels/transport/surface.h"
 #include "lane_output.h"
 
 namespace pt::wf {

@@ -7,8 +7,8 @@
 #include <cstdint>
 
 #include "fetch_surfaces.h"
-#include "kernels/frame.h"
-#include "kernels/simd.h"
+#include "kernels/math/frame.h"
+#include "kernels/simd/simd.h"
 #include "sampler_lanes.h"
 #include "shade_surfaces.h"
 

@@ -1,10 +1,10 @@
 // shade_microfacet: rough conductors. Light samples (or hemisphere probes)
 // weighted by the microfacet BRDF and, under MIS, by its pdf; a continuation
-// reflected about a Beckmann-sampled normal (kernels/bsdf.h), K lanes wide.
-#include "kernels/bsdf.h"
-#include "kernels/direct_light.h"
-#include "kernels/sample_dimensions.h"
-#include "kernels/surface.h"
+// reflected about a Beckmann-sampled normal (kernels/transport/bsdf.h), K lanes wide.
+#include "kernels/transport/bsdf.h"
+#include "kernels/transport/direct_light.h"
+#include "kernels/transport/sample_dimensions.h"
+#include "kernels/transport/surface.h"
 #include "lane_output.h"
 #include "shade_kernels.h"
 

@@ -4,8 +4,8 @@
 // buys is measured against that).
 #include "shade_surfaces.h"
 
-#include "kernels/shading.h"
-#include "kernels/surface.h"
+#include "kernels/transport/shading.h"
+#include "kernels/transport/surface.h"
 #include "shade_kernels.h"
 
 namespace pt::wf {

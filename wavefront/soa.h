@@ -11,7 +11,7 @@
 #include <new>
 #include <vector>
 
-#include "kernels/simd.h"
+#include "kernels/simd/simd.h"
 
 namespace pt::wf {
 

@@ -2,7 +2,7 @@
 // from the stream's own field list (streams.h), so that a field added to a
 // stream is loaded, stored and compacted wherever its lanes move: lane
 // structs, aligned loads and stores at lane boundaries, and appends of the
-// lanes in a mask (compaction by store_compressed, kernels/simd.h). For code
+// lanes in a mask (compaction by store_compressed, kernels/simd/simd.h). For code
 // compiled per instruction-set level.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "kernels/simd.h"
+#include "kernels/simd/simd.h"
 #include "streams.h"
 
 namespace pt::wf {

@@ -3,7 +3,7 @@
 // carry the index of their path.
 #pragma once
 
-#include "kernels/ray.h"
+#include "kernels/math/ray.h"
 #include "soa.h"
 
 namespace pt::wf {

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "kernels/surface.h"
+#include "kernels/transport/surface.h"
 #include "streams.h"
 #include "wave_context.h"
 

@@ -1,7 +1,7 @@
 // WaveContext setup.
 #include "wave_context.h"
 
-#include "kernels/shading.h"
+#include "kernels/transport/shading.h"
 
 namespace pt::wf {
 

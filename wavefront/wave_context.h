@@ -6,10 +6,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernels/camera.h"
-#include "kernels/path_rules.h"
-#include "kernels/render_settings.h"
-#include "kernels/scene.h"
+#include "kernels/scene/camera.h"
+#include "kernels/transport/path_rules.h"
+#include "kernels/render/render_settings.h"
+#include "kernels/scene/scene.h"
 #include "soa.h"
 
 namespace pt::wf {

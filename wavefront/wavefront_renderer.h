@@ -7,7 +7,7 @@
 #include <cstddef>
 
 #include "engines.h"
-#include "kernels/render_job.h"
+#include "kernels/render/render_job.h"
 #include "pass_driver.h"
 #include "run_wave.h"
 

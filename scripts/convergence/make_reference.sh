@@ -16,7 +16,7 @@ if [ $# -lt 5 ]; then
   exit 2
 fi
 scene=$1 width=$2 height=$3 depth=$4 spp=$5 seed=${6:-1000003} threads=${7:-2}
-pathtracer=${PATHTRACER:-build/io/cli/pathtracer}   # PATHTRACER=... renders with another binary
+pathtracer=${PATHTRACER:-build/cli/pathtracer}   # PATHTRACER=... renders with another binary
 [ -x "$pathtracer" ] || { echo "make_reference: build $pathtracer first" >&2; exit 1; }
 
 name=$(basename "$scene" .dae)

@@ -57,7 +57,7 @@ def row(pathtracer, scene_dir, name):
 
 
 def main():
-    pathtracer = sys.argv[1] if len(sys.argv) > 1 else "build/io/cli/pathtracer"
+    pathtracer = sys.argv[1] if len(sys.argv) > 1 else "build/cli/pathtracer"
     scene_dir = sys.argv[2] if len(sys.argv) > 2 else "../shared/scenes/cs184"
     print("Memory at 480x360, `-t 2 -s 1 -m 5` (`pathtracer --memory`; B = bytes, MB = 10^6 bytes). "
           "Scene and BVH columns: bytes per triangle allocated / in use. Per pixel: accumulators, pixel lists and "

@@ -4,7 +4,7 @@
 # convergence mode (error against a reference at 1, 2, 4, ... spp, with wall
 # time), draws one chart per scene with Debian's python3 + matplotlib and writes
 # the efficiency table; full runs also write the memory table of every shared
-# scene. Full runs write docs/ and the README's tables; --quick
+# scene. Full runs write docs/ and their tables in docs/speed_and_accuracy.md and docs/architecture.md; --quick
 # (small images, few samples: a smoke test) writes only build/convergence_quick/.
 #
 # Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
@@ -17,7 +17,7 @@ here=scripts/convergence
 
 quick=0
 scenes="CBspheres_lambertian CBbunny CBempty bunny CBgems CBcoil CBspheres_microfacet_al_ag"
-all_scenes=1   # the README's tables are only replaced by a run over every scene
+all_scenes=1   # the tables in docs/ are only replaced by a run over every scene
 methods_file="$here/methods.txt" baseline=default study_out=""
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -42,9 +42,9 @@ scene_dir=../shared/scenes/cs184
 python=/usr/bin/python3   # Debian's interpreter, which has python3-matplotlib
 mkdir -p "$out" "$csv_dir"
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build --target pathtracer
-pathtracer=build/io/cli/pathtracer
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build -j "$(nproc)" --target pathtracer
+pathtracer=build/cli/pathtracer
 
 run_log="$out/convergence_run.txt"
 {
@@ -84,7 +84,7 @@ done
 "${tables[@]}" > "$out/efficiency.md"
 cat "$out/efficiency.md"
 if [ "$quick" = 0 ] && [ "$all_scenes" = 1 ]; then
-  "$python" "$here/update_readme.py" README.md efficiency "$out/efficiency.md"
+  "$python" "$here/update_block.py" docs/speed_and_accuracy.md efficiency "$out/efficiency.md"
   "$python" "$here/memory_table.py" "$pathtracer" "$scene_dir" > "$out/memory.md"
-  "$python" "$here/update_readme.py" README.md memory "$out/memory.md"
+  "$python" "$here/update_block.py" docs/architecture.md memory "$out/memory.md"
 fi

@@ -10,12 +10,12 @@ cd "$(dirname "$0")/../.."
 scene=${1:-CBbunny}
 m=${2:-5}
 refs=../shared/refs/course
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build --target pathtracer > /dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build -j "$(nproc)" --target pathtracer > /dev/null
 mkdir -p build/course docs
 args=(-q -t "$(nproc)" -c "$refs/cam_fullview_${scene}_256x192.txt" -r 256 192 -s 256 -l 4 -m "$m" -a 256 0)
-./build/io/cli/pathtracer "${args[@]}" -f "build/course/${scene}_m${m}_default.pfm" "../shared/scenes/cs184/$scene.dae"
-./build/io/cli/pathtracer "${args[@]}" --cs184-compat -f "build/course/${scene}_m${m}_compat.pfm" \
+./build/cli/pathtracer "${args[@]}" -f "build/course/${scene}_m${m}_default.pfm" "../shared/scenes/cs184/$scene.dae"
+./build/cli/pathtracer "${args[@]}" --cs184-compat -f "build/course/${scene}_m${m}_compat.pfm" \
   "../shared/scenes/cs184/$scene.dae"
 /usr/bin/python3 scripts/course/compare_course.py "$refs/course_${scene}_m${m}_s256_l4.png" \
   "build/course/${scene}_m${m}_default.pfm" "build/course/${scene}_m${m}_compat.pfm" "docs/course_quirks_${scene}_m${m}.png"

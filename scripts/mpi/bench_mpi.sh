@@ -14,9 +14,9 @@ flags=(-r 480 360 -s 64 -l 4 -m 5 -a 64 0)
 # One machine: shared memory only (Open MPI's default transport probing adds 0.2 s to start-up).
 mpirun=(mpirun --oversubscribe --mca pml ob1 --mca btl self,vader)
 [ "$(id -u)" -eq 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build --target pathtracer > /dev/null
-bin=$PWD/build/io/cli/pathtracer
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build -j "$(nproc)" --target pathtracer > /dev/null
+bin=$PWD/build/cli/pathtracer
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 run() {  # label command... -> "label wall render"

@@ -11,9 +11,9 @@ cd "$(dirname "$0")/../.."
 spp=${1:-16}
 scene=${PT_SCENE:-../shared/scenes/cs184/CBbunny.dae}
 [ "$(id -u)" -eq 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build --target pathtracer > /dev/null
-bin=$PWD/build/io/cli/pathtracer
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build build -j "$(nproc)" --target pathtracer > /dev/null
+bin=$PWD/build/cli/pathtracer
 mkdir -p out/mpi
 seconds() { local s e; s=$(date +%s.%N); "$@" > /dev/null; e=$(date +%s.%N); echo "$e - $s" | bc; }
 startup=()

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Predicted parallel efficiency of `mpirun -np N pathtracer` for a 1920x1080
 4096-spp CBbunny render, by a discrete-event simulation of the tile protocol
-(io/cli/mpi_render.cpp) fed with figures measured by measure_tiles.sh.
+(distributed/mpi_render.cpp) fed with figures measured by measure_tiles.sh.
 
 The model (README, "Scaling out"):
 - Every rank is one core (-t 1), as fast as the measuring machine's core;

@@ -50,8 +50,8 @@ if ! command -v blender > /dev/null; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends blender
 fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build build --target pathtracer > /dev/null
-pathtracer=build/io/cli/pathtracer
+cmake --build build -j "$(nproc)" --target pathtracer > /dev/null
+pathtracer=build/cli/pathtracer
 mkdir -p "$out"
 : > "$out/summary.txt"
 {

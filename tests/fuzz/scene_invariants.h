@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "kernels/scene.h"
+#include "kernels/scene/scene.h"
 
 namespace pt::fuzz {
 

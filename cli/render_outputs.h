@@ -1,0 +1,33 @@
+// What a finished render leaves behind: the image, the sample-rate image
+// (adaptive sampling), the variance image and camera file when asked for,
+// the .partial image of an interrupted render, and the end-of-render report.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "cli_options.h"
+#include "io/image_output.h"
+#include "kernels/scene/camera.h"
+#include "kernels/render/film.h"
+#include "kernels/render/render_job.h"
+
+namespace pt::cli {
+
+/// How PNG values are quantised: truncated with --cs184-compat, else to the nearest.
+PngQuantization png_quantization(const Options& o);
+
+/// out.png -> out.partial.png
+std::filesystem::path partial_path(const std::filesystem::path& p);
+
+/// Checks every output the options ask for can be written (InputError if not).
+void check_outputs_writable(const Options& o, const std::filesystem::path& output);
+
+/// Writes the image and what the options add to it (each atomically).
+void write_outputs(const Options& o, const std::filesystem::path& output, const Film& film, const Camera& camera);
+
+/// The course renderer's end-of-render line; `ranks` > 1 adds how many MPI
+/// ranks rendered and their busy time summed.
+void print_report(const Options& o, const RenderStats& stats, int ranks = 1, double rank_seconds = 0.0);
+
+}  // namespace pt::cli

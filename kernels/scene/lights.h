@@ -1,0 +1,131 @@
+// The four light types of the CS184 scenes and how a shading point samples each
+// (light importance sampling). Conventions follow the course renderer, except
+// where it is physically inconsistent (see README: "Scene semantics").
+#pragma once
+
+#include <cmath>
+
+#include "kernels/math/ray.h"
+#include "kernels/math/sampling.h"
+#include "kernels/math/vec3.h"
+
+namespace pt {
+
+/// 64 bytes. A parallelogram centred at `position` with edges dim_x, dim_y,
+/// emitting `radiance` towards the side `direction` (unit) points to.
+struct AreaLight {
+  float3 position, dim_x, dim_y, direction, radiance;
+  float area;
+};
+static_assert(sizeof(AreaLight) == 64);
+
+/// 24 bytes. Delta light without distance falloff (the course's convention).
+struct PointLight {
+  float3 position, radiance;
+};
+
+/// 24 bytes. Delta light; `to_light` is the unit direction towards the light.
+struct DirectionalLight {
+  float3 to_light, radiance;
+};
+
+/// 12 bytes. Uniform radiance over the upper (+Y) hemisphere of directions.
+struct SkyLight {
+  float3 radiance;
+};
+
+/// One light sample seen from a shading point: unit direction to the light,
+/// distance (infinity for directional and sky), solid-angle pdf (1 for delta
+/// lights) and incident radiance (black when the sample cannot reach p).
+struct LightSample {
+  float3 wi;
+  float dist = 0.0f;
+  float pdf = 0.0f;
+  float3 radiance;
+};
+
+/// Lane-generic area-light sample towards point (px, py, pz): the unit
+/// direction, distance and solid-angle pdf. `facing` is true where the sample
+/// can send light to p (it lies on the emitting side and the pdf is finite).
+template <class T>
+struct AreaLightSampleT {
+  Vec3T<T> wi;
+  T dist, pdf;
+  lane::mask_t<T> facing;
+};
+
+/// `course_pdf`: the course renderer's pdf, dist / (area |cos|) (it takes the
+/// cosine from the unnormalised vector to the sample), so that each sample
+/// weighs dist times more than the physical dist^2 / (area |cos|) gives.
+template <class T>
+inline AreaLightSampleT<T> sample_area_light(const AreaLight& l, T px, T py, T pz, T u1, T u2,
+                                             bool course_pdf = false) {
+  T a = u1 - T(0.5f), b = u2 - T(0.5f);
+  T dx = T(l.position.x) + T(l.dim_x.x) * a + T(l.dim_y.x) * b - px;
+  T dy = T(l.position.y) + T(l.dim_x.y) * a + T(l.dim_y.y) * b - py;
+  T dz = T(l.position.z) + T(l.dim_x.z) * a + T(l.dim_y.z) * b - pz;
+  T dist2 = dx * dx + dy * dy + dz * dz;
+  T dist = lane::sqrt(dist2);
+  T inv = T(1.0f) / dist;
+  AreaLightSampleT<T> s;
+  s.wi = {dx * inv, dy * inv, dz * inv};
+  s.dist = dist;
+  T cos_light = s.wi.x * T(l.direction.x) + s.wi.y * T(l.direction.y) + s.wi.z * T(l.direction.z);
+  s.pdf = dist2 / (T(l.area) * lane::abs(cos_light));
+  if (course_pdf) s.pdf = s.pdf / dist;
+  s.facing = (cos_light < T(0.0f)) && (dist > T(0.0f)) && (s.pdf < T(kInfinity));
+  return s;
+}
+
+inline LightSample sample_area_light(const AreaLight& l, const float3& p, float u1, float u2) {
+  AreaLightSampleT<float> t = sample_area_light<float>(l, p.x, p.y, p.z, u1, u2);
+  LightSample s;
+  s.wi = {t.wi.x, t.wi.y, t.wi.z};
+  s.dist = t.dist;
+  s.pdf = t.pdf;
+  if (t.facing) s.radiance = l.radiance;
+  return s;
+}
+
+/// Solid-angle pdf with which sample_area_light picks the point at distance
+/// `dist` along unit direction wi (for multiple importance sampling).
+inline float area_light_pdf(const AreaLight& l, const float3& wi, float dist, bool course_pdf = false) {
+  float cos_light = std::fabs(dot(wi, l.direction));
+  if (!(cos_light > 0.0f)) return 0.0f;
+  float pdf = dist * dist / (l.area * cos_light);
+  return course_pdf ? pdf / dist : pdf;
+}
+
+inline LightSample sample_point_light(const PointLight& l, const float3& p) {
+  float3 d = l.position - p;
+  float dist = length(d);
+  LightSample s;
+  s.wi = d / dist;
+  s.dist = dist;
+  s.pdf = 1.0f;
+  if (dist > 0.0f) s.radiance = l.radiance;
+  return s;
+}
+
+inline LightSample sample_directional_light(const DirectionalLight& l) {
+  return {l.to_light, kInfinity, 1.0f, l.radiance};
+}
+
+/// The sky's local frame has +Y as its pole: local (x, y, z) -> world (x, z, y)
+/// keeps it right-handed up to a reflection that uniform sampling cannot see.
+template <class T> inline Vec3T<T> sample_sky_direction(T u1, T u2) {
+  Vec3T<T> h = sample_uniform_hemisphere(u1, u2);
+  return {h.x, h.z, h.y};
+}
+
+inline LightSample sample_sky_light(const SkyLight& l, float u1, float u2) {
+  Vec3T<float> d = sample_sky_direction(u1, u2);
+  return {float3{d.x, d.y, d.z}, kInfinity, kInv2Pi, l.radiance};
+}
+
+/// Radiance the sky sends along a ray leaving in direction d (unit).
+inline float3 sky_radiance(const SkyLight& l, const float3& d) {
+  return d.y > 0.0f ? l.radiance : float3{};
+}
+
+}  // namespace pt

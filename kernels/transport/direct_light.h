@@ -1,0 +1,195 @@
+// Direct light at a shading point, for one path (T = float) or K paths at once
+// (T = a SIMD batch), written once for every engine: light importance
+// sampling (each area light and the sky -l times, each delta light once; the
+// power heuristic against the BSDF sample where it competes) and the hit-based
+// estimators (uniform or cosine hemisphere sampling, -H). Each sample is handed
+// to a callback as a ray to trace and the radiance it carries if it gets
+// through; the engines trace it at once (reference, megakernel) or queue it
+// (wavefront). Random dimensions: sample_dimensions.h.
+#pragma once
+
+#include <cstdint>
+
+#include "kernels/math/frame.h"
+#include "kernels/scene/lights.h"
+#include "kernels/transport/path_sampler.h"
+#include "kernels/transport/sample_dimensions.h"
+#include "kernels/math/sampling.h"
+#include "kernels/scene/scene.h"
+#include "kernels/transport/shading.h"
+#include "kernels/transport/surface.h"
+
+namespace pt {
+
+/// What direct lighting needs of a shading point (a lane's, or one path's).
+template <class T>
+struct ShadingPointT {
+  Vec3T<T> p, ng, ns;  ///< position, geometric and shading normals facing the incoming ray
+  T offset;            ///< origin offset along ng (surface.h)
+  lane::mask_t<T> on;  ///< lanes that shade (hit a reflecting surface)
+};
+
+/// cos / pdf of a light sample, times the power-heuristic weight against the
+/// BSDF sample (pdf `bsdf_pdf`) when `mis_count` (the light's sample count) is
+/// positive.
+template <class T> inline T light_sample_factor(T cos_s, T pdf, T mis_count, T bsdf_pdf) {
+  T g = cos_s / pdf;
+  return g * lane::select(mis_count > T(0.0f), power_heuristic(mis_count * pdf, bsdf_pdf), T(1.0f));
+}
+
+/// The Lambertian BSDF's pdf of a direction at cosine cos_s (cos / pi), as
+/// sample_light_sources' `bsdf_pdf` argument.
+struct LambertianPdf {
+  template <class T> T operator()(const Vec3T<T>&, T cos_s) const { return cos_s * T(kInvPi); }
+};
+
+/// An environment-map sample per lane (scalar lookups: the map's CDFs are
+/// searched lane by lane); `ok` is false where the pdf is 0.
+template <class T>
+struct EnvironmentSampleT {
+  Vec3T<T> wi, radiance;
+  T pdf;
+  lane::mask_t<T> ok;
+};
+
+template <class T> inline EnvironmentSampleT<T> sample_environment(const EnvironmentMap& env, T u1, T u2) {
+  if constexpr (lane::is_scalar_v<T>) {
+    EnvironmentMap::Sample s = env.sample(u1, u2);
+    bool ok = s.pdf > 0.0f;
+    return {vec3t(s.wi), vec3t(s.radiance), ok ? s.pdf : 1.0f, ok};
+  } else {
+    constexpr size_t K = T::size;
+    alignas(64) float a[K], b[K], out[7][K];
+    u1.store_aligned(a);
+    u2.store_aligned(b);
+    for (size_t l = 0; l < K; ++l) {
+      EnvironmentMap::Sample s = env.sample(a[l], b[l]);
+      const float v[7] = {s.wi.x, s.wi.y, s.wi.z, s.radiance.x, s.radiance.y, s.radiance.z, s.pdf};
+      for (int c = 0; c < 7; ++c) out[c][l] = v[c];
+    }
+    auto ld = [&](int c) { return T::load_aligned(out[c]); };
+    T pdf = ld(6);
+    auto ok = pdf > T(0.0f);
+    return {{ld(0), ld(1), ld(2)}, {ld(3), ld(4), ld(5)}, lane::select(ok, pdf, T(1.0f)), ok};
+  }
+}
+
+/// A delta light's sample: unit direction, distance (kInfinity for
+/// directional lights) and the lanes where it can arrive.
+template <class T>
+struct DeltaLightSampleT {
+  Vec3T<T> wi;
+  T dist;
+  lane::mask_t<T> ok;
+};
+
+template <class T> inline DeltaLightSampleT<T> sample_point_light(const PointLight& l, const Vec3T<T>& p) {
+  Vec3T<T> d{T(l.position.x) - p.x, T(l.position.y) - p.y, T(l.position.z) - p.z};
+  T dist = lane::sqrt(dot3(d, d));
+  T inv = T(1.0f) / dist;
+  return {{d.x * inv, d.y * inv, d.z * inv}, dist, dist > T(0.0f)};
+}
+
+/// Calls shadow(ok, origin, wi, tmax, weight) for every light sample of
+/// vertex `vertex` at point `sp`: `weight` is the RGB radiance the sample
+/// brings if the shadow ray (origin, wi, [0, tmax)) is unblocked, already
+/// divided by its pdf and sample count and multiplied by the cosine at the
+/// surface (and the MIS weight where `bsdf_competes`); `ok` marks the lanes
+/// where it can arrive (light facing the point, above both normals).
+/// `bsdf_pdf(wi, cos)` is the pdf with which the vertex's BSDF sample picks
+/// wi (LambertianPdf, or the rough conductor's).
+template <class T, class U, class BsdfPdf, class Shadow>
+void sample_light_sources(const Scene& scene, const RenderSettings& rs, const ShadingPointT<T>& sp,
+                          const PathSamplerT<U, T>& ps, uint32_t vertex, bool bsdf_competes, BsdfPdf&& bsdf_pdf,
+                          Shadow&& shadow) {
+  const int n = rs.light_samples;
+  const T inv_n(1.0f / static_cast<float>(n));
+  const T mis_count(bsdf_competes ? static_cast<float>(n) : 0.0f);
+  auto emit = [&](lane::mask_t<T> ok, const Vec3T<T>& wi, T tmax, const float3& radiance, T factor) {
+    ok = ok && sp.on && dot3(sp.ns, wi) > T(0.0f) && dot3(sp.ng, wi) > T(0.0f);
+    Vec3T<T> weight{T(radiance.x) * factor, T(radiance.y) * factor, T(radiance.z) * factor};
+    shadow(ok, offset_origin(sp.p, sp.ng, sp.offset, wi), wi, tmax, weight);
+  };
+  uint32_t k = 0;  // light-sample index over all lights, in scene order
+  T u1, u2;
+  for (const AreaLight& light : scene.area_lights)
+    for (int j = 0; j < n; ++j, ++k) {
+      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+      AreaLightSampleT<T> ls = sample_area_light<T>(light, sp.p.x, sp.p.y, sp.p.z, u1, u2, rs.cs184_light_pdf);
+      T cos_s = dot3(sp.ns, ls.wi);
+      emit(ls.facing, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance,
+           light_sample_factor(cos_s, ls.pdf, mis_count, bsdf_pdf(ls.wi, cos_s)) * inv_n);
+    }
+  for (const PointLight& light : scene.point_lights) {
+    DeltaLightSampleT<T> ls = sample_point_light<T>(light, sp.p);
+    emit(ls.ok, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance, dot3(sp.ns, ls.wi));
+  }
+  for (const DirectionalLight& light : scene.directional_lights) {
+    Vec3T<T> wi{T(light.to_light.x), T(light.to_light.y), T(light.to_light.z)};
+    emit(sp.on, wi, T(kInfinity), light.radiance, dot3(sp.ns, wi));
+  }
+  if (scene.environment)
+    for (int j = 0; j < n; ++j, ++k) {
+      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+      EnvironmentSampleT<T> es = sample_environment(*scene.environment, u1, u2);
+      T cos_s = dot3(sp.ns, es.wi);
+      T factor = light_sample_factor(cos_s, es.pdf, mis_count, bsdf_pdf(es.wi, cos_s)) * inv_n;
+      lane::mask_t<T> ok = sp.on && es.ok && dot3(sp.ns, es.wi) > T(0.0f) && dot3(sp.ng, es.wi) > T(0.0f);
+      Vec3T<T> weight{es.radiance.x * factor, es.radiance.y * factor, es.radiance.z * factor};
+      shadow(ok, offset_origin(sp.p, sp.ng, sp.offset, es.wi), es.wi, T(kInfinity), weight);
+    }
+  else if (scene.sky)
+    for (int j = 0; j < n; ++j, ++k) {
+      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+      Vec3T<T> wi = sample_sky_direction(u1, u2);
+      T cos_s = dot3(sp.ns, wi);
+      emit(sp.on, wi, T(kInfinity), scene.sky->radiance,
+           light_sample_factor(cos_s, T(kInv2Pi), mis_count, bsdf_pdf(wi, cos_s)) * inv_n);
+    }
+}
+
+/// Calls probe(ok, origin, wi, weight) for every ray of the hit-based direct
+/// estimators (-H: uniform hemisphere; --direct cosine) at vertex `vertex`:
+/// the ray's closest hit (or escape) supplies the incident radiance, which
+/// `weight` (cos / pdf over the ray count) multiplies.
+template <class T, class U, class Probe>
+void sample_hemisphere_rays(const Scene& scene, const RenderSettings& rs, const ShadingPointT<T>& sp,
+                            const PathSamplerT<U, T>& ps, uint32_t vertex, Probe&& probe) {
+  const uint32_t n = hemisphere_sample_count(scene, rs);
+  const T scale(1.0f / static_cast<float>(n));
+  const bool cosine = rs.direct == DirectLighting::kCosine;
+  T u1, u2;
+  for (uint32_t k = 0; k < n; ++k) {
+    ps.get2d(vertex, dims::light_dim(k), u1, u2);
+    Vec3T<T> local = cosine ? sample_cosine_hemisphere(u1, u2) : sample_uniform_hemisphere(u1, u2);
+    Vec3T<T> wi = to_world(sp.ns.x, sp.ns.y, sp.ns.z, local.x, local.y, local.z);
+    lane::mask_t<T> ok = sp.on && dot3(sp.ng, wi) > T(0.0f);
+    probe(ok, offset_origin(sp.p, sp.ng, sp.offset, wi), wi, hit_sampling_weight(rs, local.z) * scale);
+  }
+}
+
+/// The continuation of a path at a Lambertian surface: a cosine-weighted
+/// direction (f cos / pdf = albedo) with its pdf; `ok` is false where the
+/// direction falls below the geometric surface.
+template <class T>
+struct BsdfSampleT {
+  Vec3T<T> wi;
+  T pdf;
+  lane::mask_t<T> ok;
+};
+
+template <class T, class U>
+inline BsdfSampleT<T> sample_lambertian(const ShadingPointT<T>& sp, const PathSamplerT<U, T>& ps, uint32_t vertex) {
+  T u1, u2;
+  ps.get2d(vertex, dims::kBsdf, u1, u2);
+  Vec3T<T> local = sample_cosine_hemisphere(u1, u2);
+  Vec3T<T> wi = to_world(sp.ns.x, sp.ns.y, sp.ns.z, local.x, local.y, local.z);
+  return {wi, local.z * T(kInvPi), sp.on && dot3(wi, sp.ng) > T(0.0f)};
+}
+
+/// The shading point of a surface point (one path).
+inline ShadingPointT<float> shading_point(const SurfacePoint& sp, bool reflects) {
+  return {vec3t(sp.p), vec3t(sp.ng), vec3t(sp.ns), sp.offset, reflects};
+}
+
+}  // namespace pt

@@ -1,0 +1,198 @@
+#!/usr/bin/env python3
+"""Tables of the benchmarks' Google Benchmark JSON (what scripts/bench.sh writes):
+
+    bench_tables.py trace [out/bench.json]          bench_trace: Mrays/s of every tracer per scene, ray set
+                                                    and thread count, this BVH4's best / Embree's best, builds
+    bench_tables.py render [out/bench_render.json]  bench_render: wall time, samples and rays per second by engine
+    bench_tables.py levels LEVEL...                 bench.sh levels: both at every level (reads out/levels/)
+    bench_tables.py dispatch LEVEL...               bench.sh dispatch: dispatched / single-level render time
+"""
+import glob
+import json
+import re
+import statistics
+import sys
+from collections import defaultdict
+
+TRACE = re.compile(r"^trace/(?P<scene>[^/]+)/(?P<kind>[^/]+)/(?P<tracer>[^/]+)/threads:(?P<threads>\d+)$")
+BUILD = re.compile(r"^build/(?P<scene>[^/]+)/(?P<builder>[^/]+)/threads:(?P<threads>\d+)$")
+KINDS = ["primary", "diffuse", "shadow"]
+OURS = ["bvh4", "bvh4_packet", "bvh4_incoherent"]
+
+
+def runs(data):
+    """Yields (base name, entry): medians when there are aggregates, else single runs."""
+    entries = data["benchmarks"]
+    has_median = any(e.get("aggregate_name") == "median" for e in entries)
+    for e in entries:
+        if e.get("error_occurred"):
+            continue
+        if has_median and e.get("aggregate_name") != "median":
+            continue
+        name = e.get("run_name", e["name"]).removesuffix("/manual_time").removesuffix("/real_time")
+        yield name, e
+
+
+def collect(data):
+    trace = defaultdict(dict)  # (scene, kind, threads) -> tracer -> Mrays/s
+    build = defaultdict(dict)  # scene -> (builder, threads) -> entry
+    errors = [e["name"] + ": " + e.get("error_message", "") for e in data["benchmarks"] if e.get("error_occurred")]
+    for name, e in runs(data):
+        if m := TRACE.match(name):
+            key = (m["scene"], m["kind"], int(m["threads"]))
+            trace[key][m["tracer"]] = e["rays_per_s"] / 1e6
+        elif m := BUILD.match(name):
+            build[m["scene"]][(m["builder"], int(m["threads"]))] = e
+    return trace, build, errors
+
+
+def best(row, prefix_list):
+    found = [(v, k) for k, v in row.items() if any(k == p or k.startswith(p) for p in prefix_list)]
+    return max(found) if found else (None, None)
+
+
+def trace_table(scene, trace):
+    tracers = sorted({t for (s, _, _), row in trace.items() if s == scene for t in row})
+    lines = ["| rays | threads | " + " | ".join(tracers) + " | bvh4 best / Embree best |",
+             "|---|---|" + "---|" * len(tracers) + "---|"]
+    for kind in KINDS:
+        for threads in (1, 2):
+            row = trace.get((scene, kind, threads))
+            if not row:
+                continue
+            cells = [f"{row[t]:.2f}" if t in row else "" for t in tracers]
+            ours, ours_name = best(row, OURS)
+            theirs, theirs_name = best(row, ["embree"])
+            ratio = f"**{ours / theirs:.2f}x** ({ours_name} vs {theirs_name})" if ours and theirs else ""
+            lines.append(f"| {kind} | {threads} | " + " | ".join(cells) + f" | {ratio} |")
+    return lines
+
+
+def build_table(scene, builds):
+    lines = ["| builder | threads | build ms | bytes per triangle | vs embree_high |",
+             "|---|---|---|---|---|"]
+    for (builder, threads), e in sorted(builds.items()):
+        ref = builds.get(("embree_high", threads))
+        ratio = f"{e['real_time'] / ref['real_time']:.2f}x" if ref else ""
+        lines.append(f"| {builder} | {threads} | {e['real_time']:.1f} | {e.get('bytes_per_triangle', 0):.1f} | {ratio} |")
+    return lines
+
+
+def trace_main(path="out/bench.json"):
+    with open(path) as f:
+        data = json.load(f)
+    trace, build, errors = collect(data)
+    context = data.get("context", {})
+    print(f"# bench_trace, {context.get('date', '')}")
+    print(f"host: {context.get('num_cpus', '?')} CPUs; Embree: {context.get('embree', 'absent')}; "
+          f"{context.get('rays', '')}; Mrays/s, 1 thread over thread CPU time, 2 threads over wall time\n")
+    scenes = list(dict.fromkeys([s for (s, _, _) in trace] + list(build)))
+    for scene in scenes:
+        tris = next((e.get("triangles") for e in build.get(scene, {}).values()), None)
+        print(f"## {scene}" + (f" ({int(tris):,} triangles)" if tris else "") + "\n")
+        print("\n".join(trace_table(scene, trace)) + "\n")
+        if scene in build:
+            print("\n".join(build_table(scene, build[scene])) + "\n")
+    if errors:
+        print("## Not timed\n")
+        print("\n".join(f"- {e}" for e in errors))
+
+
+
+def render_main(path="out/bench_render.json"):
+    data = json.load(open(path))
+    runs = defaultdict(list)  # (scene, engine) -> [entry]
+    for e in data["benchmarks"]:
+        if e.get("run_type") != "iteration" or e.get("error_occurred"):
+            continue
+        scene, engine = e["run_name"].split("/")[1:3]
+        runs[(scene, engine)].append(e)
+    scenes = sorted({s for s, _ in runs})
+    engines = ["wavefront", "wavefront_no_packets", "wavefront_unsorted", "megakernel", "reference"]
+    print(f"machine: {data['context'].get('host_name', '?')}, {data['context'].get('num_cpus', '?')} CPUs; "
+          f"medians of {max(len(v) for v in runs.values()) if runs else 0} interleaved runs\n")
+    print("| scene | engine | wall s | Msamples/s | Mrays/s | rays (M) | vs megakernel | sorted by material vs unsorted |")
+    print("|---|---|---|---|---|---|---|---|")
+    for scene in scenes:
+        med = {}
+        for engine in engines:
+            entries = runs.get((scene, engine))
+            if not entries:
+                continue
+            med[engine] = {k: statistics.median(e[k] for e in entries)
+                           for k in ("seconds", "samples_per_s", "mrays_per_s", "rays")}
+        for engine, m in med.items():
+            ratio = med["megakernel"]["seconds"] / m["seconds"] if "megakernel" in med else float("nan")
+            sort = ""
+            if engine == "wavefront" and "wavefront_unsorted" in med:
+                sort = f"{med['wavefront_unsorted']['seconds'] / m['seconds']:.3f}x"
+            print(f"| {scene.removesuffix('.dae')} | {engine} | {m['seconds']:.3f} | {m['samples_per_s'] / 1e6:.2f} | "
+                  f"{m['mrays_per_s']:.1f} | {m['rays'] / 1e6:.1f} | {ratio:.2f}x | {sort} |")
+
+
+
+def trace_rows(level):
+    data = json.load(open(f"out/levels/trace_{level}.json"))
+    trace, build, _ = collect(data)
+    scenes = list(dict.fromkeys(s for (s, _, _) in trace))
+    for scene in scenes:
+        cells = []
+        for threads in (1, 2):
+            for kind in KINDS:
+                row = trace.get((scene, kind, threads), {})
+                ours, _ = best(row, OURS)
+                theirs, _ = best(row, ["embree"])
+                cells.append(f"{ours:.1f} / {theirs:.1f} ({ours / theirs:.2f}x)" if ours and theirs else "")
+        yield scene, data["context"].get("embree", "absent"), cells
+
+
+def render_medians(level):
+    times = {}
+    for path in glob.glob(f"out/levels/render_{level}_*.json"):
+        for b in json.load(open(path))["benchmarks"]:
+            times.setdefault(b["run_name"].split("/")[2], []).append(b["seconds"])
+    return {engine: statistics.median(t) for engine, t in times.items()}
+
+
+def levels_main(*levels):
+    print("bench_trace: Mrays/s of this BVH4's best method / Embree's best method (ratio); 1 thread over thread "
+          "CPU time, 2 threads over wall time; medians\n")
+    print("| level | scene | primary 1T | diffuse 1T | shadow 1T | primary 2T | diffuse 2T | shadow 2T |")
+    print("|---|---|---|---|---|---|---|---|")
+    embree = {}
+    for level in levels:
+        for scene, embree[level], cells in trace_rows(level):
+            print(f"| {level} | {scene} | " + " | ".join(cells) + " |")
+    print("\nEmbree: " + "; ".join(f"{level}: {e}" for level, e in embree.items()))
+    print("\nbench_render, CBbunny 480x360 -s 64 -l 4 -m 5, 2 threads, course framing: wall seconds, medians\n")
+    print("| level | wavefront | megakernel | reference | wavefront vs megakernel |")
+    print("|---|---|---|---|---|")
+    for level in levels:
+        m = render_medians(level)
+        w, k, r = m.get("wavefront"), m.get("megakernel"), m.get("reference")
+        print(f"| {level} | {w:.2f} | {k:.2f} | {r:.2f} | {k / w:.2f}x |")
+
+
+
+def dispatch_main(*levels):
+    print("| level | engine | dispatched s | single-level s | dispatched / single |")
+    print("|---|---|---|---|---|")
+    for level in levels:
+        times = {}
+        for kind in ("dispatched", "single"):
+            for path in glob.glob(f"out/dispatch/{kind}_{level}_*.json"):
+                for b in json.load(open(path))["benchmarks"]:
+                    engine = b["run_name"].split("/")[2]
+                    times.setdefault((kind, engine), []).append(b["seconds"])
+        for engine in ("wavefront", "megakernel"):
+            d = statistics.median(times[("dispatched", engine)])
+            s = statistics.median(times[("single", engine)])
+            print(f"| {level} | {engine} | {d:.3f} | {s:.3f} | {d / s:.3f} |")
+
+
+COMMANDS = {"trace": trace_main, "render": render_main, "levels": levels_main, "dispatch": dispatch_main}
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2 or sys.argv[1] not in COMMANDS:
+        sys.exit(__doc__)
+    COMMANDS[sys.argv[1]](*sys.argv[2:])

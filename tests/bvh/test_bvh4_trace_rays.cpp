@@ -1,0 +1,68 @@
+// trace_rays, the external timing tool, on a hand-made triangle and ray file:
+// one JSON line per thread count with the exact hit count and sum of t, and
+// the per-ray hit file (t, primitive; misses t = tmax, 0xFFFFFFFF).
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/run_process.h"
+#include "support/test_support.h"
+
+namespace {
+
+pt::test::ProcessResult run(const std::vector<std::string>& args) {
+  return pt::test::run_process(PT_TRACE_RAYS, args, std::filesystem::current_path(), 120.0);
+}
+
+template <class T> void write(const std::string& path, const std::vector<T>& data) {
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(T));
+}
+
+TEST(TraceRays, ReportsExactHitsAndWritesHitFile) {
+  std::string dir = ::testing::TempDir();
+  // Triangle 0 in the plane z = 1, triangle 1 in z = 3, both over x, y in [0, 1].
+  write<float>(dir + "tris.bin", {0, 0, 1, 1, 0, 1, 0, 1, 1, 0, 0, 3, 1, 0, 3, 0, 1, 3});
+  // ox oy oz tmin dx dy dz tmax
+  write<float>(dir + "rays.bin", {0.2f, 0.2f, 0, 0, 0, 0, 1, 1e30f,    // hits triangle 0 at t = 1
+                                  0.2f, 0.2f, 2, 0, 0, 0, 0.5f, 1e30f,  // hits triangle 1 at t = 2
+                                  5.0f, 5.0f, 0, 0, 0, 0, 1, 7.0f});    // misses
+  pt::test::ProcessResult r = run({dir + "tris.bin", dir + "rays.bin", "--threads", "2", "--hits", dir + "hits.bin"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string& out = r.out;
+  ASSERT_NE(out.find("\"threads\":1,"), std::string::npos) << out;
+  ASSERT_NE(out.find("\"threads\":2,"), std::string::npos) << out;
+  for (const char* field : {"\"hits\":2,", "\"sum_t\":3,", "\"rays\":3,", "\"triangles\":2,", "\"mrays_per_s\":",
+                            "\"build_ms\":"}) {
+    size_t first = out.find(field), second = out.find(field, first + 1);
+    EXPECT_NE(first, std::string::npos) << field << " in " << out;
+    EXPECT_NE(second, std::string::npos) << field << " twice in " << out;
+  }
+  std::string bytes = pt::test::file_bytes(dir + "hits.bin");
+  ASSERT_EQ(bytes.size(), 3u * 8u);
+  float t[3];
+  uint32_t prim[3];
+  for (int i = 0; i < 3; ++i) {
+    std::memcpy(&t[i], &bytes[8 * i], 4);
+    std::memcpy(&prim[i], &bytes[8 * i + 4], 4);
+  }
+  EXPECT_EQ(t[0], 1.0f);
+  EXPECT_EQ(prim[0], 0u);
+  EXPECT_EQ(t[1], 2.0f);
+  EXPECT_EQ(prim[1], 1u);
+  EXPECT_EQ(t[2], 7.0f);
+  EXPECT_EQ(prim[2], 0xFFFFFFFFu);
+}
+
+TEST(TraceRays, RejectsTruncatedFiles) {
+  std::string dir = ::testing::TempDir();
+  write<float>(dir + "bad_tris.bin", {0, 0, 1, 1, 0});  // not a multiple of 9 floats
+  write<float>(dir + "rays1.bin", {0, 0, 0, 0, 0, 0, 1, 1});
+  pt::test::ProcessResult r = run({dir + "bad_tris.bin", dir + "rays1.bin"});
+  EXPECT_NE(r.err.find("bad_tris.bin"), std::string::npos) << r.err;
+  EXPECT_EQ(r.exit_code, 1);
+}
+
+}  // namespace

@@ -1,0 +1,248 @@
+// Physics in the default mode, against closed forms that no renderer code
+// computes, for every engine and every direct-light estimator (light
+// sampling, uniform hemisphere, cosine hemisphere, MIS):
+//  - the irradiance of a rectangular area light at points of a floor, from
+//    the integral of cos over the rectangle's solid angle in closed form
+//    (Lambert's formula for a parallel rectangle, by inclusion-exclusion of
+//    corner rectangles), with and without an opaque square in between;
+//  - the first indirect bounce: light of a rectangular area light reflected
+//    by a Lambertian floor patch onto a facing wall, against a fine quadrature
+//    of that patch's radiance (itself from the closed form) times the form
+//    factor kernel cos cos / (pi r^2);
+//  - the sky on a tilted plane: a uniform sky over the upper hemisphere gives
+//    a plane tilted by theta the irradiance pi Ls (1 + cos theta) / 2.
+// Statistics: the camera has a 1e-6 field of view, so every pixel sees the
+// same point; 16 x 16 pixels are independent estimates (with the default
+// sampler, Owen-scrambled Sobol points, each pixel scrambles its own). Per channel
+// |mean - exact| < 5 SE (false failure 5.7e-7 per channel; about 3 x 4 x 3
+// x 10 = 360 channel checks in this file: < 2.1e-4 in all), and SE at most
+// 0.5% of exact (0.6% for the hit-based estimators of the second bounce), so
+// that a bias of 5% (6%) fails: the power of each check, which sets its
+// sample count (tests/support/film_checks.h).
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/engines_under_test.h"
+#include "support/film_checks.h"
+#include "support/scene_builders.h"
+
+namespace pt {
+namespace {
+
+const float3 kRho{0.4f, 0.6f, 0.8f};
+const float3 kLe{2.0f, 1.0f, 0.5f};
+constexpr double kPi = std::numbers::pi;
+
+struct Estimator {
+  DirectLighting direct;
+  const char* name;
+};
+constexpr Estimator kEstimators[] = {{DirectLighting::kLightSampling, "light sampling"},
+                                     {DirectLighting::kHemisphere, "hemisphere"},
+                                     {DirectLighting::kCosine, "cosine"},
+                                     {DirectLighting::kMis, "MIS"}};
+
+/// Whether the estimator finds the light only by hitting it (hemisphere and
+/// cosine probes): noisier where the light subtends a small solid angle.
+constexpr bool hits_the_light(const Estimator& est) {
+  return est.direct == DirectLighting::kHemisphere || est.direct == DirectLighting::kCosine;
+}
+
+/// Integral of cos over the rectangle [0, x] x [0, z] at height h above a
+/// point (a corner above it), signed by the quadrant of (x, z).
+double corner_integral(double x, double z, double h) {
+  double a = std::fabs(x) / h, b = std::fabs(z) / h, sa = std::sqrt(1 + a * a), sb = std::sqrt(1 + b * b);
+  double value = 0.5 * (a / sa * std::atan(b / sa) + b / sb * std::atan(a / sb));
+  return std::copysign(1.0, x) * std::copysign(1.0, z) * value;
+}
+
+/// Integral of cos (projected solid angle) of the horizontal rectangle
+/// [x0, x1] x [z0, z1] at height h above the point (px, py, pz), facing it.
+double projected_solid_angle(double x0, double x1, double z0, double z1, double h, double px, double pz) {
+  x0 -= px, x1 -= px, z0 -= pz, z1 -= pz;
+  return corner_integral(x1, z1, h) - corner_integral(x0, z1, h) - corner_integral(x1, z0, h) +
+         corner_integral(x0, z0, h);
+}
+
+/// Renders the film of a camera that sees only `target`, from `eye`.
+Film render_point(const test::EngineUnderTest& engine, const Scene& s, float3 eye, float3 target, RenderSettings rs) {
+  return engine.render(s, test::look_at(eye, target, 1e-6f, 1e-6f), rs).film;
+}
+
+// --------------------------------------------------- area light irradiance
+
+// The light: the rectangle [-0.6, 0.6] x [-0.4, 0.4] at height 1, facing down.
+constexpr float kLx0 = -0.6f, kLx1 = 0.6f, kLz0 = -0.4f, kLz1 = 0.4f, kLh = 1.0f;
+
+/// A large floor of albedo kRho under the light; with `occluder`, an opaque
+/// black square [ox - 0.15, ox + 0.15] x [oz - 0.15, oz + 0.15] at height 0.5.
+Scene floor_under_area_light(bool occluder, float ox = 0.0f, float oz = 0.0f) {
+  Scene s;
+  const float h = 20.0f;
+  test::add_quad(s, {-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}, {0, 1, 0}, test::add_material(s, kRho));
+  if (occluder)
+    test::add_quad(s, {ox - 0.15f, 0.5f, oz - 0.15f}, {ox + 0.15f, 0.5f, oz - 0.15f}, {ox + 0.15f, 0.5f, oz + 0.15f},
+                   {ox - 0.15f, 0.5f, oz + 0.15f}, {0, -1, 0}, test::add_material(s, float3(0.0f)));
+  s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
+  test::add_area_light(s, {0.5f * (kLx0 + kLx1), kLh, 0.5f * (kLz0 + kLz1)}, {kLx1 - kLx0, 0, 0}, {0, 0, kLz1 - kLz0},
+                       {0, -1, 0}, kLe);
+  test::finish_scene(s);
+  return s;
+}
+
+// Catches: a wrong area-light pdf (its distance or cosine factor: the course
+// renderer's is off by the distance), light counted on the wrong side, a
+// missing cos at the surface or at the light, and a MIS weight that does not
+// sum to one. Maximum depth 2, so that under MIS the BSDF ray competes; the
+// second vertex (the light's or the occluder's black surface) reflects nothing.
+TEST(ClosedFormLighting, AreaLightIrradianceOnAFloor) {
+  const Scene open = floor_under_area_light(false);
+  struct Point {
+    float x, z;
+  };
+  for (Point p : {Point{0.1f, 0.05f}, Point{0.55f, -0.35f}, Point{1.3f, 0.9f}}) {
+    const double psa = projected_solid_angle(kLx0, kLx1, kLz0, kLz1, kLh, p.x, p.z);
+    const float3 expected = kRho * kLe * static_cast<float>(psa / kPi);
+    for (const test::EngineUnderTest& e : test::engines_under_test())
+      for (const Estimator& est : kEstimators) {
+        // The hit-based estimators find a light of small solid angle rarely: 4x the samples.
+        RenderSettings rs = test::fixed_settings(16, 16, hits_the_light(est) ? 1024 : 256);
+        rs.max_depth = 2;
+        rs.direct = est.direct;
+        std::string what = e.name + ", " + est.name + ", floor point (" + std::to_string(p.x) + ", " +
+                           std::to_string(p.z) + ")";
+        test::expect_film_estimates(render_point(e, open, {p.x + 0.05f, 0.3f, p.z + 0.1f}, {p.x, 0, p.z}, rs),
+                                    expected, what);
+      }
+  }
+}
+
+// Power: the same check rejects the course renderer's area-light pdf (each
+// sample weighted by its distance to the light: here 0.8-1.2 units away).
+TEST(ClosedFormLighting, TheIrradianceCheckRejectsTheCoursePdf) {
+  const Scene open = floor_under_area_light(false);
+  const float px = 1.3f, pz = 0.9f;
+  const double psa = projected_solid_angle(kLx0, kLx1, kLz0, kLz1, kLh, px, pz);
+  const float3 expected = kRho * kLe * static_cast<float>(psa / kPi);
+  RenderSettings rs = test::fixed_settings(16, 16, 256);
+  rs.max_depth = 2;
+  rs.cs184_light_pdf = true;
+  Film film = render_point(test::engines_under_test()[1], open, {px + 0.05f, 0.3f, pz + 0.1f}, {px, 0, pz}, rs);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_GT(std::fabs(test::z_score(test::film_channel_mean(film, c), expected[c])), 5.0) << "channel " << c;
+}
+
+// The occluder's shadow: from p the square at height 0.5 covers the
+// rectangle twice its size at the light's height, which lies inside the light.
+TEST(ClosedFormLighting, AreaLightIrradianceUnderAnOccluder) {
+  const float px = 0.1f, pz = 0.05f;
+  const Scene blocked = floor_under_area_light(true, px, pz);
+  const double psa = projected_solid_angle(kLx0, kLx1, kLz0, kLz1, kLh, px, pz) -
+                     projected_solid_angle(px - 0.3, px + 0.3, pz - 0.3, pz + 0.3, kLh, px, pz);
+  const float3 expected = kRho * kLe * static_cast<float>(psa / kPi);
+  for (const test::EngineUnderTest& e : test::engines_under_test())
+    for (const Estimator& est : kEstimators) {
+      RenderSettings rs = test::fixed_settings(16, 16, hits_the_light(est) ? 1024 : 256);
+      rs.max_depth = 2;
+      rs.direct = est.direct;
+      test::expect_film_estimates(render_point(e, blocked, {px + 0.05f, 0.3f, pz + 0.1f}, {px, 0, pz}, rs), expected,
+                                  e.name + ", " + est.name + ", under the occluder");
+    }
+}
+
+// ------------------------------------------------- first indirect bounce
+
+const float3 kRhoFloor{0.7f, 0.5f, 0.3f};
+const float3 kRhoWall{0.6f, 0.6f, 0.6f};
+constexpr double kWallX = 1.5, kPy = 0.5, kPz = 0.0;  // the wall's plane and the point seen on it
+
+/// A floor patch [-1, 1]^2 (albedo kRhoFloor) lit by the area light above
+/// it, and a wall at x = 1.5 (albedo kRhoWall) facing the patch.
+Scene patch_and_wall() {
+  Scene s;
+  test::add_quad(s, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, {0, 1, 0}, test::add_material(s, kRhoFloor));
+  const float x = static_cast<float>(kWallX);
+  test::add_quad(s, {x, 0, -2}, {x, 2, -2}, {x, 2, 2}, {x, 0, 2}, {-1, 0, 0}, test::add_material(s, kRhoWall));
+  s.mesh_triangle_count = static_cast<uint32_t>(s.triangles.size());
+  test::add_area_light(s, {0.5f * (kLx0 + kLx1), kLh, 0.5f * (kLz0 + kLz1)}, {kLx1 - kLx0, 0, 0}, {0, 0, kLz1 - kLz0},
+                       {0, -1, 0}, kLe);
+  test::finish_scene(s);
+  return s;
+}
+
+/// Radiance at the wall point after exactly two bounces, per unit albedos
+/// and radiance: the integral over the patch of (E(x) / pi) cos_p cos_x /
+/// (pi r^2), by the midpoint rule on n x n cells.
+double second_bounce_kernel(int n) {
+  double sum = 0.0, cell = 2.0 / n;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      double x = -1 + (i + 0.5) * cell, z = -1 + (k + 0.5) * cell;
+      double e = projected_solid_angle(kLx0, kLx1, kLz0, kLz1, kLh, x, z);  // irradiance / Le
+      double dx = kWallX - x, dy = kPy, dz = kPz - z, r2 = dx * dx + dy * dy + dz * dz, r = std::sqrt(r2);
+      double cos_wall = dx / r, cos_floor = dy / r;
+      sum += e / kPi * cos_wall * cos_floor / (kPi * r2) * cell * cell;
+    }
+  return sum;
+}
+
+// Catches: a wrong throughput update at the bounce (albedo vs albedo / pi,
+// cos / pdf of the continuation), light of the first vertex counted again,
+// and bounce counting off by one (--bounces only-m with m = 2 keeps exactly
+// the light that reflects off the patch and then off the wall).
+TEST(ClosedFormLighting, FirstIndirectBounceBetweenFacingRectangles) {
+  const double kernel = second_bounce_kernel(600);
+  EXPECT_NEAR(kernel, second_bounce_kernel(300), 1e-5 * kernel) << "quadrature not converged";
+  const float3 expected = kRhoWall * kRhoFloor * kLe * static_cast<float>(kernel);
+  const Scene s = patch_and_wall();
+  const float3 target{static_cast<float>(kWallX), static_cast<float>(kPy), static_cast<float>(kPz)};
+  for (const test::EngineUnderTest& e : test::engines_under_test())
+    for (const Estimator& est : kEstimators) {
+      // The light seen by hitting it from the second vertex is rare: 16x the
+      // samples, and a standard error that sees a 6% bias.
+      RenderSettings rs = test::fixed_settings(16, 16, hits_the_light(est) ? 8192 : 512);
+      rs.max_depth = 2;
+      rs.bounces = BounceMode::kOnlyBounceM;
+      rs.direct = est.direct;
+      test::expect_film_estimates(render_point(e, s, target + float3{-0.4f, 0.1f, 0.2f}, target, rs), expected,
+                                  e.name + ", " + est.name + ", second bounce", hits_the_light(est) ? 0.06 : 0.05);
+    }
+}
+
+// ---------------------------------------------------- sky on a tilted plane
+
+// Catches: the sky sampled over the wrong hemisphere or with the wrong pdf,
+// sky light below the horizon, and a cosine or visibility bound by the
+// geometric normal where the shading normal is meant (or the reverse).
+TEST(ClosedFormLighting, SkyOnATiltedPlane) {
+  const float3 ls{0.8f, 1.0f, 1.2f};
+  for (double theta_deg : {0.0, 50.0, 120.0}) {
+    const double theta = theta_deg * kPi / 180.0;
+    const float3 n{static_cast<float>(std::sin(theta)), static_cast<float>(std::cos(theta)), 0.0f};
+    const float3 u{n.y, -n.x, 0.0f}, w{0, 0, 1};  // the plane's edges
+    Scene s;
+    test::add_quad(s, u * -20.0f + w * -20.0f, u * 20.0f + w * -20.0f, u * 20.0f + w * 20.0f, u * -20.0f + w * 20.0f, n,
+                   test::add_material(s, kRho));
+    s.sky = SkyLight{ls};
+    test::finish_scene(s);
+    const float3 expected = kRho * ls * static_cast<float>((1.0 + std::cos(theta)) / 2.0);
+    for (const test::EngineUnderTest& e : test::engines_under_test())
+      for (const Estimator& est : kEstimators) {
+        RenderSettings rs = test::fixed_settings(16, 16, 128);
+        rs.max_depth = 2;
+        rs.direct = est.direct;
+        // A point off the quad's diagonal: a camera this narrow aimed at the
+        // edge two triangles share would send many rays through the crack that
+        // Moller-Trumbore leaves between them.
+        const float3 p = u * 0.3f + w * 0.1f;
+        test::expect_film_estimates(render_point(e, s, p + n * 0.5f + u * 0.1f, p, rs), expected,
+                                    e.name + ", " + est.name + ", plane tilted by " + std::to_string(theta_deg));
+      }
+  }
+}
+
+}  // namespace
+}  // namespace pt

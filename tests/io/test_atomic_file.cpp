@@ -1,0 +1,95 @@
+// Output files appear whole or not at all (io/atomic_file): exact contents,
+// no temporary file left behind on success or failure, a reader never sees a
+// half-written replacement, and check_writable() refuses what the write would
+// refuse while leaving the directory as it was.
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "io/atomic_file.h"
+#include "io/image_output.h"
+#include "io/scene_error.h"
+#include "support/run_process.h"
+#include "support/test_support.h"
+
+namespace pt {
+namespace {
+
+TEST(AtomicFile, WritesExactBytesAndNothingElse) {
+  test::ScratchDir dir;
+  std::string bytes("binary\0data\n", 12);
+  write_file_atomically(dir / "out.bin", bytes);
+  EXPECT_EQ(test::file_bytes(dir / "out.bin"), bytes);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.bin"});
+}
+
+TEST(AtomicFile, AReaderSeesTheOldOrTheNewFileNeverAMixture) {
+  test::ScratchDir dir;
+  const std::filesystem::path path = dir / "image.bin";
+  const std::string a(1 << 20, 'a'), b(1 << 20, 'b');
+  write_file_atomically(path, a);
+  std::atomic<bool> done{false};
+  std::atomic<int> reads{0}, torn{0};
+  std::thread reader([&] {
+    while (!done) {
+      std::string seen = test::file_bytes(path);
+      ++reads;
+      if (seen != a && seen != b) ++torn;
+    }
+  });
+  for (int i = 0; i < 40; ++i) write_file_atomically(path, i % 2 ? a : b);
+  done = true;
+  reader.join();
+  EXPECT_GT(reads.load(), 0);
+  EXPECT_EQ(torn.load(), 0) << "of " << reads.load() << " reads";
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"image.bin"});
+}
+
+TEST(AtomicFile, FailureThrowsNamingThePathAndLeavesNothing) {
+  test::ScratchDir dir;
+  std::filesystem::create_directory(dir / "sub");
+  for (const std::filesystem::path& bad : {dir / "missing" / "out.png", dir / "sub"}) {
+    SCOPED_TRACE(bad.string());
+    try {
+      write_file_atomically(bad, "data");
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(bad.string() + ": ", 0), 0u) << e.what();
+    }
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{"sub"});
+    EXPECT_TRUE(std::filesystem::is_empty(dir / "sub"));
+  }
+}
+
+TEST(AtomicFile, CheckWritableRefusesWhatTheWriteWouldAndLeavesNothing) {
+  test::ScratchDir dir;
+  dir.write("file", "x");
+  std::filesystem::create_directory(dir / "sub");
+  EXPECT_NO_THROW(check_writable(dir / "new.png"));
+  EXPECT_NO_THROW(check_writable(dir / "file"));  // replacing an existing file is fine
+  EXPECT_THROW(check_writable(dir / "missing" / "out.png"), InputError);
+  EXPECT_THROW(check_writable(dir / "file" / "out.png"), InputError);
+  EXPECT_THROW(check_writable(dir / "sub"), InputError);
+  EXPECT_THROW(check_writable(dir / "sub" / ""), InputError);
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"file", "sub"}));
+  EXPECT_EQ(test::file_bytes(dir / "file"), "x");
+}
+
+TEST(AtomicFile, ImagesAreWrittenThroughIt) {
+  test::ScratchDir dir;
+  Film film(3, 2, 1);
+  for (size_t i = 0; i < film.radiance.size(); ++i) film.radiance[i] = float3(float(i), 0.5f, -1.0f);
+  write_image(dir / "out.pfm", film);
+  write_image(dir / "out.png", film);
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"out.pfm", "out.png"}));
+  int w = 0, h = 0;
+  std::vector<float3> back = read_pfm(dir / "out.pfm", w, h);
+  ASSERT_EQ(back.size(), film.radiance.size());
+  for (size_t i = 0; i < back.size(); ++i) EXPECT_EQ(back[i], film.radiance[i]);
+  EXPECT_EQ(test::file_bytes(dir / "out.png").substr(1, 3), "PNG");
+}
+
+}  // namespace
+}  // namespace pt

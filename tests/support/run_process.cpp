@@ -1,0 +1,150 @@
+// run_process on fork / execv with poll() over both pipes; ScratchDir on mkdtemp.
+#include "support/run_process.h"
+
+#include <cerrno>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+
+namespace pt::test {
+namespace {
+
+[[noreturn]] void exec_child(const std::string& program, const std::vector<std::string>& args,
+                             const std::filesystem::path& cwd, int out_fd, int err_fd, size_t memory_limit) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(program.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  if (memory_limit > 0) {
+    rlimit lim{memory_limit, memory_limit};
+    setrlimit(RLIMIT_AS, &lim);
+  }
+  // Standard input is /dev/null: a child that reads it (mpirun forwards it to
+  // rank 0) must not consume the input of whatever runs the tests.
+  int null_fd = open("/dev/null", O_RDONLY);
+  if (null_fd < 0 || dup2(null_fd, 0) < 0) _exit(126);
+  if (chdir(cwd.c_str()) != 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(126);
+  execv(program.c_str(), argv.data());
+  _exit(127);
+}
+
+/// Reads both pipes until they close or the deadline passes; false on timeout.
+/// Sends SIGINT to `pid` once `interrupt_after` seconds have passed (if > 0).
+bool drain(pid_t pid, int out_fd, int err_fd, std::string& out, std::string& err, double timeout_seconds,
+           double interrupt_after) {
+  const auto start = std::chrono::steady_clock::now();
+  auto deadline = start + std::chrono::duration<double>(timeout_seconds);
+  auto interrupt_at = start + std::chrono::duration<double>(interrupt_after);
+  bool interrupt_pending = interrupt_after > 0;
+  pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
+  std::string* sinks[2] = {&out, &err};
+  int open = 2;
+  char buf[4096];
+  while (open > 0) {
+    auto now = std::chrono::steady_clock::now();
+    if (interrupt_pending && now >= interrupt_at) {
+      kill(pid, SIGINT);
+      interrupt_pending = false;
+    }
+    auto until = interrupt_pending ? std::min(deadline, interrupt_at) : deadline;
+    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - now);
+    if (!interrupt_pending && left.count() <= 0) return false;
+    left = std::max(left, std::chrono::milliseconds(1));
+    if (poll(fds, 2, static_cast<int>(left.count())) < 0) continue;
+    for (int i = 0; i < 2; ++i) {
+      if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      ssize_t n = read(fds[i].fd, buf, sizeof buf);
+      if (n > 0) {
+        sinks[i]->append(buf, static_cast<size_t>(n));
+      } else {
+        fds[i].fd = -1;
+        --open;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
+                          const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes,
+                          double interrupt_after_seconds) {
+#if defined(__SANITIZE_ADDRESS__)
+  memory_limit_bytes = 0;
+#endif
+  ProcessResult r;
+  int out_pipe[2], err_pipe[2];
+  if (pipe2(out_pipe, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) return r;
+  pid_t pid = fork();
+  if (pid == 0) exec_child(program, args, cwd, out_pipe[1], err_pipe[1], memory_limit_bytes);
+  close(out_pipe[1]);
+  close(err_pipe[1]);
+  if (pid < 0) {
+    close(out_pipe[0]);
+    close(err_pipe[0]);
+    return r;
+  }
+  r.timed_out = !drain(pid, out_pipe[0], err_pipe[0], r.out, r.err, timeout_seconds, interrupt_after_seconds);
+  if (r.timed_out) kill(pid, SIGKILL);
+  close(out_pipe[0]);
+  close(err_pipe[0]);
+  int status = 0;
+  struct rusage usage{};
+  while (wait4(pid, &status, 0, &usage) < 0) {
+    if (errno != EINTR) return r;  // exit_code stays -1: not "exited 0"
+  }
+  r.peak_rss_bytes = static_cast<size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    lines.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return lines;
+}
+
+ScratchDir::ScratchDir() {
+  std::string templ = (std::filesystem::temp_directory_path() / "pt_test_XXXXXX").string();
+  if (mkdtemp(templ.data()) != nullptr) path_ = templ;
+}
+
+ScratchDir::~ScratchDir() {
+  std::error_code ec;
+  if (!path_.empty()) {
+    // Restore permissions a test may have removed, so that removal succeeds.
+    for (const auto& e : std::filesystem::recursive_directory_iterator(path_, ec))
+      std::filesystem::permissions(e.path(), std::filesystem::perms::owner_all, std::filesystem::perm_options::add, ec);
+    std::filesystem::remove_all(path_, ec);
+  }
+}
+
+std::vector<std::string> ScratchDir::entries() const {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(path_)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::filesystem::path ScratchDir::write(const std::string& name, const std::string& bytes) const {
+  std::filesystem::path p = path_ / name;
+  std::ofstream(p, std::ios::binary) << bytes;
+  return p;
+}
+
+}  // namespace pt::test
