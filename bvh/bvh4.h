@@ -55,7 +55,6 @@ constexpr uint32_t leaf(uint32_t first_block, uint32_t block_count) {
   return first_block * uint32_t(sizeof(TriangleBlock4)) | (block_count - 1) << 1 | kLeafBit;
 }
 constexpr uint32_t leaf_offset(uint32_t ref) { return ref & ~31u; }
-constexpr uint32_t leaf_first_block(uint32_t ref) { return leaf_offset(ref) / uint32_t(sizeof(TriangleBlock4)); }
 constexpr uint32_t leaf_block_count(uint32_t ref) { return ((ref >> 1) & 15u) + 1; }
 }  // namespace bvh4_ref
 

@@ -12,7 +12,7 @@
 
 namespace pt {
 
-/// Contents of a CS184 camera settings file (see README, "Camera files").
+/// Contents of a CS184 camera settings file (docs/flags.md, -c).
 struct CameraSettingsFile {
   float hfov_deg = 0, vfov_deg = 0, aspect = 0, near_clip = 0, far_clip = 0;
   float3 position, target;

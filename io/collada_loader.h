@@ -1,6 +1,6 @@
 // Loads a CS184 COLLADA (.dae) scene into the flat scene model. Follows the
 // course renderer's reading of the format (see ../shared/scenes/README.md and
-// this project's README, "Scene semantics").
+// docs/cs184_compatibility.md).
 #pragma once
 
 #include <filesystem>

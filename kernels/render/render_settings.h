@@ -46,7 +46,7 @@ struct RenderSettings {
   int light_samples = 1;           ///< -l: samples per area light (and sky)
   int max_depth = 1;               ///< -m: maximum bounces
   // The defaults below that change the error of a render were each chosen by
-  // error per second (README, "Speed against accuracy"; the course renderer's
+  // error per second (docs/speed_and_accuracy.md; the course renderer's
   // own values are what --cs184-compat sets).
   int adaptive_batch = 32;         ///< -a BATCH TOL: check convergence every BATCH samples
   float adaptive_tolerance = 0.0f; ///< 0: off (the course's default is 0.05; it plateaus with Sobol points)

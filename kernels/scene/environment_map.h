@@ -1,5 +1,5 @@
 // The environment light: a lat-long HDR image around the scene, read the way
-// the course renderer reads it (README, "Environment map"), looked up
+// the course renderer reads it (docs/rendering.md), looked up
 // bilinearly, and importance-sampled by a 2-D piecewise-constant distribution
 // over its texels (marginal over rows, conditional within each row). The
 // texels come from the caller (io/exr_image.h reads them); nothing here

@@ -1,6 +1,8 @@
-// The four light types of the CS184 scenes and how a shading point samples each
-// (light importance sampling). Conventions follow the course renderer, except
-// where it is physically inconsistent (see README: "Scene semantics").
+// The four light types of the CS184 scenes, the area light's and the sky's
+// sampling warps (lane-generic: one path or K lanes) and their pdfs. How a
+// shading point combines them into direct light is kernels/transport/
+// direct_light.h. Conventions follow the course renderer, except where it is
+// physically inconsistent (docs/cs184_compatibility.md).
 #pragma once
 
 #include <cmath>
@@ -31,16 +33,6 @@ struct DirectionalLight {
 
 /// 12 bytes. Uniform radiance over the upper (+Y) hemisphere of directions.
 struct SkyLight {
-  float3 radiance;
-};
-
-/// One light sample seen from a shading point: unit direction to the light,
-/// distance (infinity for directional and sky), solid-angle pdf (1 for delta
-/// lights) and incident radiance (black when the sample cannot reach p).
-struct LightSample {
-  float3 wi;
-  float dist = 0.0f;
-  float pdf = 0.0f;
   float3 radiance;
 };
 
@@ -77,16 +69,6 @@ inline AreaLightSampleT<T> sample_area_light(const AreaLight& l, T px, T py, T p
   return s;
 }
 
-inline LightSample sample_area_light(const AreaLight& l, const float3& p, float u1, float u2) {
-  AreaLightSampleT<float> t = sample_area_light<float>(l, p.x, p.y, p.z, u1, u2);
-  LightSample s;
-  s.wi = {t.wi.x, t.wi.y, t.wi.z};
-  s.dist = t.dist;
-  s.pdf = t.pdf;
-  if (t.facing) s.radiance = l.radiance;
-  return s;
-}
-
 /// Solid-angle pdf with which sample_area_light picks the point at distance
 /// `dist` along unit direction wi (for multiple importance sampling).
 inline float area_light_pdf(const AreaLight& l, const float3& wi, float dist, bool course_pdf = false) {
@@ -96,31 +78,11 @@ inline float area_light_pdf(const AreaLight& l, const float3& wi, float dist, bo
   return course_pdf ? pdf / dist : pdf;
 }
 
-inline LightSample sample_point_light(const PointLight& l, const float3& p) {
-  float3 d = l.position - p;
-  float dist = length(d);
-  LightSample s;
-  s.wi = d / dist;
-  s.dist = dist;
-  s.pdf = 1.0f;
-  if (dist > 0.0f) s.radiance = l.radiance;
-  return s;
-}
-
-inline LightSample sample_directional_light(const DirectionalLight& l) {
-  return {l.to_light, kInfinity, 1.0f, l.radiance};
-}
-
 /// The sky's local frame has +Y as its pole: local (x, y, z) -> world (x, z, y)
 /// keeps it right-handed up to a reflection that uniform sampling cannot see.
 template <class T> inline Vec3T<T> sample_sky_direction(T u1, T u2) {
   Vec3T<T> h = sample_uniform_hemisphere(u1, u2);
   return {h.x, h.z, h.y};
-}
-
-inline LightSample sample_sky_light(const SkyLight& l, float u1, float u2) {
-  Vec3T<float> d = sample_sky_direction(u1, u2);
-  return {float3{d.x, d.y, d.z}, kInfinity, kInv2Pi, l.radiance};
 }
 
 /// Radiance the sky sends along a ray leaving in direction d (unit).

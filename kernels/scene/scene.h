@@ -23,7 +23,7 @@ struct TriangleIndices {
 };
 static_assert(sizeof(TriangleIndices) == 12);
 
-/// How a material scatters light (README, "Materials").
+/// How a material scatters light (docs/rendering.md).
 enum class MaterialKind : uint32_t {
   kDiffuse,     ///< Lambertian: albedo / pi (emitters are diffuse with black albedo)
   kMirror,      ///< perfect specular reflection, scaled by albedo (reflectance)
@@ -68,7 +68,7 @@ struct Sphere {
 static_assert(sizeof(Sphere) == 20);
 
 /// What the file says about the camera; resolved into a Camera for a given
-/// output size by resolve_camera(). See README, "Camera".
+/// output size by resolve_camera(). See docs/cs184_compatibility.md.
 struct CameraDescription {
   float hfov_deg = 50.0f, vfov_deg = 35.0f;
   float near_clip = 0.01f, far_clip = 100.0f;

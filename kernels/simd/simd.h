@@ -64,7 +64,6 @@ using vint4 = xsimd::batch<int32_t, Arch4>;
 using vuint4 = xsimd::batch<uint32_t, Arch4>;
 using vbool4 = xsimd::batch_bool<float, Arch4>;
 
-inline constexpr std::size_t kBvhWidth = 4;
 /// The widest K of any level: streams are padded to it, so their layout is
 /// the same at every level.
 inline constexpr std::size_t kMaxLanes = 16;
@@ -217,9 +216,6 @@ inline vboolK lanes_of_mask(uint32_t bits) {
   return as_float_mask((vintK(static_cast<int32_t>(bits)) & vintK::load_aligned(kBit)) != vintK(0));
 #endif
 }
-
-/// The lanes i < n.
-inline vboolK first_lanes(std::size_t n) { return lanes_of_mask(lanes_below(n)); }
 
 /// base[index[i]] per lane, with the hardware gather where there is one
 /// (xsimd 8.1 gathers element by element). For random indices (the

@@ -9,7 +9,7 @@
 // Physically consistent by default; `course` selects the course renderer's
 // approximations (--cs184-compat): Schlick's Fresnel for glass, its radiance
 // scaling on refraction, its conductor Fresnel evaluated at the macro normal
-// with the two-term air-conductor approximation. README, "Materials".
+// with the two-term air-conductor approximation. docs/rendering.md.
 #pragma once
 
 #include "kernels/math/frame.h"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's figure of the course renderer's quirks: renders SCENE (default
+# The figure in docs/cs184_compatibility.md of the course renderer's quirks: renders SCENE (default
 # CBbunny) at depth M (default 5) with the settings of the course's image in
 # ../shared/refs/course, once in the default (physical) mode and once with
 # --cs184-compat, and draws course / default / compat / ratio into

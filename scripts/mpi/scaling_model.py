@@ -3,7 +3,7 @@
 4096-spp CBbunny render, by a discrete-event simulation of the tile protocol
 (distributed/mpi_render.cpp) fed with figures measured by measure_tiles.sh.
 
-The model (README, "Scaling out"):
+The model (docs/scaling_out.md):
 - Every rank is one core (-t 1), as fast as the measuring machine's core;
   a variant has a quarter of the ranks at half speed.
 - A tile's time at 4096 spp = (measured - per-tile overhead) * 4096 / SPP +

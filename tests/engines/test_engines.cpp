@@ -184,7 +184,7 @@ TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
 }
 
 TEST(EngineAgreement, TheNoiseTestDetectsATwoPercentBias) {
-  // Power check of expect_statistically_equal: the same renders, one scaled by 1.02.
+  // Power check of expect_same_image_within_noise: the same renders, one scaled by 1.02.
   Scene scene = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
   RenderSettings rs = small_settings(128, 1);
   rs.width = 48;

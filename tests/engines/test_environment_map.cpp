@@ -75,7 +75,7 @@ EnvironmentMap gradient_map() { return {kGw, kGh, gradient_texels(kGw, kGh)}; }
 
 // ---------------------------------------------------------------- geometry and quadrature
 
-/// The README's mapping inverted, in double: theta from +Y, phi as atan2(-z, x) + pi.
+/// The mapping of docs/rendering.md inverted, in double: theta from +Y, phi as atan2(-z, x) + pi.
 float3 dir_at(double theta, double phi) {
   return {float(-std::sin(theta) * std::cos(phi)), float(std::cos(theta)), float(std::sin(theta) * std::sin(phi))};
 }

@@ -126,8 +126,8 @@ TEST(InvalidSamples, WarpsStayFiniteAtTheEdgesOfTheUnitSquare) {
       EXPECT_TRUE(unit(sample_cosine_hemisphere(u1, u2))) << u1 << " " << u2;
       EXPECT_TRUE(unit(sample_uniform_sphere(u1, u2))) << u1 << " " << u2;
       EXPECT_TRUE(unit(sample_sky_direction(u1, u2))) << u1 << " " << u2;
-      LightSample ls = sample_area_light(light, float3{0.3f, 0.0f, -0.2f}, u1, u2);
-      EXPECT_TRUE(std::isfinite(ls.pdf) && ls.pdf > 0 && is_finite(ls.wi)) << u1 << " " << u2;
+      AreaLightSampleT<float> ls = sample_area_light<float>(light, 0.3f, 0.0f, -0.2f, u1, u2);
+      EXPECT_TRUE(std::isfinite(ls.pdf) && ls.pdf > 0 && unit(ls.wi)) << u1 << " " << u2;
     }
 }
 

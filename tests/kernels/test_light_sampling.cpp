@@ -1,9 +1,10 @@
-// Light samplers (kernels/scene/lights.h). Area light: the sampled points are
+// Light samplers the engines use, at one lane (kernels/scene/lights.h,
+// kernels/transport/direct_light.h). Area light: the sampled points are
 // uniform over the parallelogram (chi-square), every pdf equals
 // dist^2 / (area |cos|) computed independently, and the Monte Carlo solid angle
 // and cosine-weighted solid angle of a rectangle match their closed forms;
-// radiance only on the emitting side. Sky: chi-square against the uniform
-// upper hemisphere. Point and directional lights: exact values.
+// light only on the emitting side. Sky: chi-square against the uniform
+// upper hemisphere. Point lights: exact direction and distance.
 //
 // Chi-square tests: 2^20 samples (fixed-seed mt19937), 16 x 16 or 16 x 32
 // bins plus an overflow bin of expected 0, significance level 1e-6.
@@ -15,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "kernels/scene/lights.h"
+#include "kernels/transport/direct_light.h"
 #include "support/sampling_histogram.h"
 #include "support/statistics.h"
 
@@ -36,6 +38,17 @@ AreaLight make_area_light(float3 position, float3 dim_x, float3 dim_y, float3 di
 const AreaLight kSkewed = make_area_light({0.4f, 2.0f, -0.3f}, {1.2f, 0.3f, 0.0f}, {0.5f, 0.1f, 0.8f},
                                           cross(float3{1.2f, 0.3f, 0.0f}, float3{0.5f, 0.1f, 0.8f}), {3, 2, 1});
 const float3 kShadingPoint{0.1f, 0.0f, 0.2f};
+
+/// One area-light sample at one lane, as the engines draw it.
+struct AreaSample {
+  float3 wi;
+  float dist, pdf;
+  bool facing;
+};
+AreaSample area_sample(const AreaLight& l, const float3& p, float u1, float u2) {
+  AreaLightSampleT<float> s = sample_area_light<float>(l, p.x, p.y, p.z, u1, u2);
+  return {{s.wi.x, s.wi.y, s.wi.z}, s.dist, s.pdf, s.facing};
+}
 
 /// (s, t) in [0,1]^2 with q = position + dim_x (s - 1/2) + dim_y (t - 1/2), by least squares in double.
 void light_coordinates(const AreaLight& l, const float3& q, double& s, double& t) {
@@ -65,7 +78,7 @@ TEST(AreaLightSampling, PointsAreUniformOverTheParallelogram) {
   UniformSource u(21);
   for (int i = 0; i < kSamples; ++i) {
     float u1 = u.next(), u2 = u.next();
-    LightSample ls = sample_area_light(kSkewed, kShadingPoint, u1, u2);
+    AreaSample ls = area_sample(kSkewed, kShadingPoint, u1, u2);
     double s, t;
     light_coordinates(kSkewed, kShadingPoint + ls.wi * ls.dist, s, t);
     const double slack = 1e-5;  // float rounding of the sample point
@@ -89,13 +102,13 @@ TEST(AreaLightSampling, PdfIsTheSolidAngleDensityOfUniformAreaSampling) {
   const double area = length(cross(kSkewed.dim_x, kSkewed.dim_y));
   for (int i = 0; i < 100000; ++i) {
     float u1 = u.next(), u2 = u.next();
-    LightSample ls = sample_area_light(kSkewed, kShadingPoint, u1, u2);
+    AreaSample ls = area_sample(kSkewed, kShadingPoint, u1, u2);
     ASSERT_NEAR(length(ls.wi), 1.0f, 1e-6f);
     double cos_light = std::fabs(dot(ls.wi, normal));
     double pdf = double(ls.dist) * ls.dist / (area * cos_light);
     ASSERT_NEAR(ls.pdf, pdf, 1e-5 * pdf) << i;
     ASSERT_NEAR(area_light_pdf(kSkewed, ls.wi, ls.dist), pdf, 1e-5 * pdf) << i;
-    ASSERT_EQ(ls.radiance, kSkewed.radiance) << "the point faces the emitting side";
+    ASSERT_TRUE(ls.facing) << "the point faces the emitting side";
   }
 }
 
@@ -117,7 +130,7 @@ TEST(AreaLightSampling, SolidAngleAndIrradianceMatchClosedForms) {
   UniformSource u(23);
   for (int i = 0; i < kSamples; ++i) {
     float u1 = u.next(), u2 = u.next();
-    LightSample ls = sample_area_light(l, {0, 0, 0}, u1, u2);
+    AreaSample ls = area_sample(l, {0, 0, 0}, u1, u2);
     inv_pdf.push_back(1.0 / ls.pdf);
     cos_over_pdf.push_back(ls.wi.y / ls.pdf);
   }
@@ -128,22 +141,21 @@ TEST(AreaLightSampling, SolidAngleAndIrradianceMatchClosedForms) {
   EXPECT_LT(proj.standard_error, 2e-3 * projected);
 }
 
-// Radiance only where dot(sample - p, direction) < 0, and never a NaN or an
-// infinite pdf reported with radiance (points in the light's plane).
+// Facing only where dot(sample - p, direction) < 0, and never with a NaN or an
+// infinite pdf (points in the light's plane).
 TEST(AreaLightSampling, EmitsOnlyTowardsItsDirection) {
   const AreaLight l = make_area_light({0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {0, -1, 0}, {5, 5, 5});
   UniformSource u(24);
   for (int i = 0; i < 10000; ++i) {
     float u1 = u.next(), u2 = u.next();
-    EXPECT_EQ(sample_area_light(l, {0.2f, 0, 0.1f}, u1, u2).radiance, l.radiance);
-    EXPECT_TRUE(is_black(sample_area_light(l, {0.2f, 2, 0.1f}, u1, u2).radiance)) << "behind the light";
-    LightSample in_plane = sample_area_light(l, {3, 1, 0}, u1, u2);
-    EXPECT_TRUE(is_black(in_plane.radiance)) << "in the light's plane";
+    EXPECT_TRUE(area_sample(l, {0.2f, 0, 0.1f}, u1, u2).facing);
+    EXPECT_FALSE(area_sample(l, {0.2f, 2, 0.1f}, u1, u2).facing) << "behind the light";
+    EXPECT_FALSE(area_sample(l, {3, 1, 0}, u1, u2).facing) << "in the light's plane";
   }
 }
 
-// Stated: uniform over the +Y hemisphere with pdf 1 / (2 pi), at infinite
-// distance, radiance = the sky's. Histogram of (y, atan2(z, x)). Catches the
+// Stated: uniform over the +Y hemisphere (pdf 1 / (2 pi), which direct_light.h
+// divides by). Histogram of (y, atan2(z, x)). Catches the
 // pole left on local z (+Z in world: half the samples below the horizon fill
 // the overflow bin) and a cosine-weighted warp.
 TEST(SkyLightSampling, UniformOverTheUpperHemisphere) {
@@ -152,11 +164,8 @@ TEST(SkyLightSampling, UniformOverTheUpperHemisphere) {
   UniformSource u(25);
   for (int i = 0; i < kSamples; ++i) {
     float u1 = u.next(), u2 = u.next();
-    LightSample ls = sample_sky_light(sky, u1, u2);
-    ASSERT_EQ(ls.pdf, kInv2Pi);
-    ASSERT_EQ(ls.radiance, sky.radiance);
-    ASSERT_EQ(ls.dist, kInfinity);
-    h.add(ls.wi.x, ls.wi.z, ls.wi.y);
+    Vec3T<float> wi = sample_sky_direction(u1, u2);
+    h.add(wi.x, wi.z, wi.y);
   }
   test::ChiSquareResult r = test::chi_square_test(
       h.counts(), h.expected(kSamples, [](double z0, double z1, double p0, double p1) {
@@ -168,23 +177,19 @@ TEST(SkyLightSampling, UniformOverTheUpperHemisphere) {
   EXPECT_TRUE(is_black(sky_radiance(sky, {1, 0, 0}))) << "the horizon itself is not sky";
 }
 
-// CS184 conventions: no distance falloff, pdf 1, the colour as incident radiance.
-TEST(DeltaLightSampling, PointAndDirectionalLightsFollowTheCourseConventions) {
+// A point light's sample: the unit direction to it and its distance (the
+// course's convention of no distance falloff is checked by rendering, in
+// tests/engines/test_direct_light_closed_form.cpp).
+TEST(DeltaLightSampling, PointLightDirectionAndDistance) {
   const PointLight pl{{1, 4, 2}, {2, 3, 4}};
   for (float3 p : {float3{1, 3.9f, 2}, float3{0, 0, 0}, float3{-500, 100, 800}}) {
-    LightSample ls = sample_point_light(pl, p);
-    float3 d = pl.position - p;
-    EXPECT_EQ(ls.radiance, pl.radiance) << "no falloff";
-    EXPECT_EQ(ls.pdf, 1.0f);
+    DeltaLightSampleT<float> ls = sample_point_light<float>(pl, Vec3T<float>{p.x, p.y, p.z});
+    float3 d = pl.position - p, wi{ls.wi.x, ls.wi.y, ls.wi.z};
+    EXPECT_TRUE(ls.ok);
     EXPECT_NEAR(ls.dist, length(d), 1e-6f * length(d));
-    EXPECT_NEAR(dot(ls.wi, normalize(d)), 1.0f, 1e-6f);
+    EXPECT_NEAR(dot(wi, normalize(d)), 1.0f, 1e-6f);
   }
-  const DirectionalLight dl{normalize(float3{1, 2, 3}), {5, 6, 7}};
-  LightSample ls = sample_directional_light(dl);
-  EXPECT_EQ(ls.wi, dl.to_light);
-  EXPECT_EQ(ls.dist, kInfinity);
-  EXPECT_EQ(ls.pdf, 1.0f);
-  EXPECT_EQ(ls.radiance, dl.radiance);
+  EXPECT_FALSE(sample_point_light<float>(pl, Vec3T<float>{1, 4, 2}).ok) << "at the light itself";
 }
 
 }  // namespace
