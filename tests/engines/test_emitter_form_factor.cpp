@@ -10,8 +10,8 @@
 // Statistics: a camera with a 1e-6 field of view sees only p; 16 x 16 pixels x
 // 512 samples are independent estimates; per channel |mean - exact| < 5 SE
 // (false failure 5.7e-7 per comparison, 2 points x 2 estimators x 3 channels
-// = 12 per engine: < 7e-6) and SE at most 0.5% of exact (measured 0.2%), so
-// that a 5% bias fails (tests/support/film_checks.h). About 0.3 s per engine.
+// = 12 per engine: < 7e-6) and SE at most 0.30% of exact (measured 0.20%),
+// so that a 2% bias fails with probability 0.95 (tests/support/film_checks.h). About 0.3 s per engine.
 #include <cmath>
 #include <numbers>
 #include <string>

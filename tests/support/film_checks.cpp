@@ -30,7 +30,7 @@ void expect_film_estimates(const Film& film, const float3& expected, const std::
     EXPECT_LT(std::fabs(z_score(m, expected[c])), kZ5)
         << what << ", channel " << c << ": mean " << m.mean << " +- " << m.standard_error << " vs exact "
         << expected[c] << " (z = " << z_score(m, expected[c]) << ")";
-    EXPECT_LE(m.standard_error, detectable_bias / (2 * kZ5) * expected[c])
+    EXPECT_LE(m.standard_error, detectable_bias / (kZ5 + kZ95) * expected[c])
         << what << ", channel " << c << ": standard error " << m.standard_error / expected[c]
         << " of the expected value, too large to see a bias of " << detectable_bias;
   }

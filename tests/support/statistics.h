@@ -19,6 +19,9 @@ namespace pt::test {
 /// normal sampling distribution: P(|Z| > 4.5) = 6.8e-6, P(|Z| > 5) = 5.7e-7.
 inline constexpr double kZ45 = 4.5;
 inline constexpr double kZ5 = 5.0;
+/// One-sided 95% quantile of the normal: a test whose threshold lies kZ95
+/// standard errors short of an effect detects that effect with probability 0.95.
+inline constexpr double kZ95 = 1.6448536;
 
 /// P(X >= x) for X chi-square distributed with `dof` > 0 degrees of freedom.
 double chi_square_tail(double x, double dof);
