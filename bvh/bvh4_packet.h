@@ -125,57 +125,37 @@ inline void child_slabs(const Bvh4Node& node, int c, const RayPacket& p, vfloatK
 }
 
 /// Moller-Trumbore of triangle `lane` of block b against the packet's rays in
-/// `lanes`; shortens tmax and records the hit where it is closer.
-inline void intersect_triangle_packet(const TriangleBlock4& b, int lane, uint32_t lanes, RayPacket& p,
-                                      PacketHits& h) {
-  vfloatK e1x(b.r1[0][lane]), e1y(b.r1[1][lane]), e1z(b.r1[2][lane]);
-  vfloatK e2x(b.r2[0][lane]), e2y(b.r2[1][lane]), e2z(b.r2[2][lane]);
-  vfloatK px = p.dir[1] * e2z - p.dir[2] * e2y, py = p.dir[2] * e2x - p.dir[0] * e2z;
-  vfloatK pz = p.dir[0] * e2y - p.dir[1] * e2x;
-  vfloatK det = e1x * px + e1y * py + e1z * pz;
-  vfloatK tx = p.org[0] - vfloatK(b.v0[0][lane]), ty = p.org[1] - vfloatK(b.v0[1][lane]);
-  vfloatK tz = p.org[2] - vfloatK(b.v0[2][lane]);
-  vfloatK u_num = tx * px + ty * py + tz * pz;
-  vfloatK qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
-  vfloatK v_num = p.dir[0] * qx + p.dir[1] * qy + p.dir[2] * qz;
-  vfloatK t_num = e2x * qx + e2y * qy + e2z * qz;
-  vfloatK sign = xsimd::bitofsign(det), abs_det = det ^ sign;
-  vfloatK u_abs = u_num ^ sign, v_abs = v_num ^ sign, t_abs = t_num ^ sign;
-  vboolK valid = lanes_of_mask(lanes) & (det != vfloatK(0.0f)) & (u_abs >= vfloatK(0.0f)) &
-                 (v_abs >= vfloatK(0.0f)) & (u_abs + v_abs <= abs_det) & (t_abs >= abs_det * p.tmin) &
-                 (t_abs < abs_det * p.tmax);
-  if (lane_mask(valid) == 0) return;
-  vfloatK inv = vfloatK(1.0f) / det, t = t_num * inv;
-  valid = valid & (t >= p.tmin) & (t < p.tmax);  // the division may round onto a bound
-  p.tmax = xsimd::select(valid, t, p.tmax);
-  h.u = xsimd::select(valid, u_num * inv, h.u);
-  h.v = xsimd::select(valid, v_num * inv, h.v);
-  h.prim = xsimd::select(xsimd::bool_cast(valid), vintK(static_cast<int32_t>(b.prim[lane])), h.prim);
+/// `lanes` (the blocks' test, mt_numerators and finish_lanes, with the
+/// triangle repeated over the rays): the lanes hit within [tmin, tmax).
+inline bool triangle_against_packet(const TriangleBlock4& b, int lane, uint32_t lanes, const RayPacket& p,
+                                    LaneHits<vfloatK>& out) {
+  vfloatK v0[3], e1[3], e2[3];
+  for (int a = 0; a < 3; ++a) {
+    v0[a] = vfloatK(b.v0[a][lane]);
+    e1[a] = vfloatK(b.r1[a][lane]);
+    e2[a] = vfloatK(b.r2[a][lane]);
+  }
+  MtNumerators<vfloatK> n = mt_numerators(v0, e1, e2, p);
+  return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside & lanes_of_mask(lanes), p.tmin, p.tmax, out,
+                      [](vboolK m) { return lane_mask(m) != 0; });
 }
 
-/// Lanes of `lanes` whose rays hit triangle `lane` of block b within
-/// [tmin, tmax) (Moller-Trumbore, as intersect_triangle_packet).
+/// Shortens tmax and records the hit in the lanes where triangle `lane` of
+/// block b is closer.
+inline void intersect_triangle_packet(const TriangleBlock4& b, int lane, uint32_t lanes, RayPacket& p,
+                                      PacketHits& h) {
+  LaneHits<vfloatK> hit;
+  if (!triangle_against_packet(b, lane, lanes, p, hit)) return;
+  p.tmax = xsimd::select(hit.hit, hit.t, p.tmax);
+  h.u = xsimd::select(hit.hit, hit.u, h.u);
+  h.v = xsimd::select(hit.hit, hit.v, h.v);
+  h.prim = xsimd::select(xsimd::bool_cast(hit.hit), vintK(static_cast<int32_t>(b.prim[lane])), h.prim);
+}
+
+/// Lanes of `lanes` whose rays hit triangle `lane` of block b within [tmin, tmax).
 inline uint32_t occluders_in_packet(const TriangleBlock4& b, int lane, uint32_t lanes, const RayPacket& p) {
-  vfloatK e1x(b.r1[0][lane]), e1y(b.r1[1][lane]), e1z(b.r1[2][lane]);
-  vfloatK e2x(b.r2[0][lane]), e2y(b.r2[1][lane]), e2z(b.r2[2][lane]);
-  vfloatK px = p.dir[1] * e2z - p.dir[2] * e2y, py = p.dir[2] * e2x - p.dir[0] * e2z;
-  vfloatK pz = p.dir[0] * e2y - p.dir[1] * e2x;
-  vfloatK det = e1x * px + e1y * py + e1z * pz;
-  vfloatK tx = p.org[0] - vfloatK(b.v0[0][lane]), ty = p.org[1] - vfloatK(b.v0[1][lane]);
-  vfloatK tz = p.org[2] - vfloatK(b.v0[2][lane]);
-  vfloatK u_num = tx * px + ty * py + tz * pz;
-  vfloatK qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
-  vfloatK v_num = p.dir[0] * qx + p.dir[1] * qy + p.dir[2] * qz;
-  vfloatK t_num = e2x * qx + e2y * qy + e2z * qz;
-  vfloatK sign = xsimd::bitofsign(det), abs_det = det ^ sign;
-  vfloatK u_abs = u_num ^ sign, v_abs = v_num ^ sign, t_abs = t_num ^ sign;
-  vboolK valid = lanes_of_mask(lanes) & (det != vfloatK(0.0f)) & (u_abs >= vfloatK(0.0f)) &
-                 (v_abs >= vfloatK(0.0f)) & (u_abs + v_abs <= abs_det) & (t_abs >= abs_det * p.tmin) &
-                 (t_abs < abs_det * p.tmax);
-  uint32_t m = lane_mask(valid);
-  if (m == 0) return 0;
-  vfloatK t = t_num / det;  // the division may round onto a bound: check as the single-ray test does
-  return m & lane_mask((t >= p.tmin) & (t < p.tmax));
+  LaneHits<vfloatK> hit;
+  return triangle_against_packet(b, lane, lanes, p, hit) ? lane_mask(hit.hit) : 0;
 }
 
 /// Rays a packet must have in a subtree to traverse it as a packet: with

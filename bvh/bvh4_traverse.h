@@ -160,7 +160,7 @@ inline bool leaf_occludes(const TriangleBlock4* blocks, uint32_t count,
   if constexpr (F == TriangleForm::kMollerTrumbore) {
     if (count >= 2) {
       const MtPairRay wide = widen(br);
-      const vfloat8 wide_tmax = _mm256_set_m128(tmax, tmax);
+      const vfloat8 wide_tmax = repeat_halves(tmax);
       for (; i + 2 <= count; i += 2) {
         count_block(counters, blocks[i]);
         count_block(counters, blocks[i + 1]);

@@ -68,10 +68,17 @@ PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 
   return movemask(lanes.hit);
 }
 
-/// Moller-Trumbore in lanes of any width (finish_lanes decides the hits).
-template <class V, class AnyFn>
-PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const MtRayLanes<V>& r,
-                               const V& tmax, LaneHits<V>& out, AnyFn any) {
+/// The Moller-Trumbore numerators of a test in lanes of any width, and the
+/// lanes where the hit lies inside the triangle. `r` is any ray in lanes V
+/// (org[3], dir[3]): a block ray repeated over the triangles, or a packet of
+/// rays against one triangle repeated over the rays. The one Moller-Trumbore
+/// of the BVH4: blocks, block pairs and packets all call it.
+template <class V> struct MtNumerators {
+  V det, t_num, u_num, v_num;
+  typename V::batch_bool_type inside;
+};
+template <class V, class R>
+PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const R& r) {
   V px = r.dir[1] * e2[2] - r.dir[2] * e2[1];
   V py = r.dir[2] * e2[0] - r.dir[0] * e2[2];
   V pz = r.dir[0] * e2[1] - r.dir[1] * e2[0];
@@ -87,8 +94,15 @@ PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)
   V t_num = e2[0] * qx + e2[1] * qy + e2[2] * qz;
   V sign = xsimd::bitofsign(det);
   V u_abs = u_num ^ sign, v_abs = v_num ^ sign;
-  auto inside = (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= (det ^ sign));
-  return finish_lanes(det, t_num, u_num, v_num, inside, r.tmin, tmax, out, any);
+  return {det, t_num, u_num, v_num, (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= (det ^ sign))};
+}
+
+/// Moller-Trumbore in lanes of any width (finish_lanes decides the hits).
+template <class V, class AnyFn>
+PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const MtRayLanes<V>& r,
+                               const V& tmax, LaneHits<V>& out, AnyFn any) {
+  MtNumerators<V> n = mt_numerators(v0, e1, e2, r);
+  return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside, r.tmin, tmax, out, any);
 }
 
 /// Moller-Trumbore on a block in kMollerTrumbore form.
@@ -110,30 +124,25 @@ PT_ALWAYS_INLINE uint32_t intersect_block_mt(const TriangleBlock4& b, const MtBl
 /// Two consecutive blocks as eight lanes (AVX2 and up): lanes 0-3 are the
 /// first block's, 4-7 the second's. Lane for lane the same bits as two calls
 /// of intersect_block_mt with the same tmax.
-using vfloat8 = xsimd::batch<float, xsimd::avx2>;
 using MtPairRay = MtRayLanes<vfloat8>;
 
 /// The 4-wide ray constants repeated in both halves.
 PT_ALWAYS_INLINE MtPairRay widen(const MtBlockRay& r) {
   MtPairRay w;
-  auto twice = [](vfloat4 x) { return vfloat8(_mm256_set_m128(x, x)); };
-  for (int a = 0; a < 3; ++a) { w.org[a] = twice(r.org[a]); w.dir[a] = twice(r.dir[a]); }
-  w.tmin = twice(r.tmin);
+  for (int a = 0; a < 3; ++a) { w.org[a] = repeat_halves(r.org[a]); w.dir[a] = repeat_halves(r.dir[a]); }
+  w.tmin = repeat_halves(r.tmin);
   return w;
 }
 
 /// The lanes of one block of a pair: 0 the first, 1 the second.
 PT_ALWAYS_INLINE BlockHits block_of_pair(const LaneHits<vfloat8>& h, int which) {
-  auto half = [which](vfloat8 x) -> vfloat4 {
-    return which == 0 ? _mm256_castps256_ps128(x) : _mm256_extractf128_ps(x, 1);
-  };
-  return {half(h.t), half(h.u), half(h.v)};
+  return {half_of(h.t, which), half_of(h.u, which), half_of(h.v, which)};
 }
 
 /// Row `row` (a pointer into the first block) of both blocks.
 PT_ALWAYS_INLINE vfloat8 block_pair_row(const float* row) {
   constexpr size_t kNext = sizeof(TriangleBlock4) / sizeof(float);
-  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(row)), _mm_load_ps(row + kNext), 1);
+  return load_halves(row, row + kNext);
 }
 
 /// Moller-Trumbore on blocks b[0] and b[1] at once; the mask of lanes hit.
@@ -145,9 +154,8 @@ PT_ALWAYS_INLINE uint32_t intersect_block_pair_mt(const TriangleBlock4* b, const
     e1[a] = block_pair_row(b->r1[a]);
     e2[a] = block_pair_row(b->r2[a]);
   }
-  auto any = [](xsimd::batch_bool<float, xsimd::avx2> m) { return _mm256_movemask_ps(m) != 0; };
-  if (!mt_lanes(v0, e1, e2, r, tmax, h, any)) return 0;
-  return static_cast<uint32_t>(_mm256_movemask_ps(h.hit));
+  if (!mt_lanes(v0, e1, e2, r, tmax, h, [](vbool8 m) { return movemask(m) != 0; })) return 0;
+  return movemask(h.hit);
 }
 #endif
 

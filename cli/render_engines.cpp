@@ -1,4 +1,5 @@
-// EngineRunner: the engine table.
+// EngineRunner: builds the acceleration structure the chosen engine traces
+// and renders through it (the engines themselves: wavefront/engines.cpp).
 #include "render_engines.h"
 
 #include <chrono>

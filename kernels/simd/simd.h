@@ -165,6 +165,30 @@ inline void enable_flush_denormals_to_zero() {
 #endif
 }
 
+#if XSIMD_WITH_AVX2
+/// Two 4-wide vectors as the halves of one 8-wide vector (AVX2 and up; the
+/// BVH4 leaf test takes two triangle blocks at once). Without AVX2 the
+/// blocks go one at a time through the 4-wide test.
+using vfloat8 = xsimd::batch<float, xsimd::avx2>;
+using vbool8 = xsimd::batch_bool<float, xsimd::avx2>;
+
+/// v in both halves.
+inline vfloat8 repeat_halves(vfloat4 v) { return _mm256_set_m128(v, v); }
+
+/// Half 0 (lanes 0-3) or 1 (lanes 4-7) of v.
+inline vfloat4 half_of(vfloat8 v, int which) {
+  return which == 0 ? _mm256_castps256_ps128(v) : _mm256_extractf128_ps(v, 1);
+}
+
+/// Four aligned floats at lo and four at hi as one vector.
+inline vfloat8 load_halves(const float* lo, const float* hi) {
+  return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(lo)), _mm_load_ps(hi), 1);
+}
+
+/// Bit mask of the true lanes (lane i -> bit i).
+inline uint32_t movemask(vbool8 m) { return static_cast<uint32_t>(_mm256_movemask_ps(m)); }
+#endif
+
 }  // namespace pt
 
 #if defined(PT_ISA_NS)

@@ -1,4 +1,4 @@
-// Which random dimension each decision of a path uses. Both engines draw
+// Which random dimension each decision of a path uses. Every engine draws
 // through this table, so with the same seed they make the same choices.
 // A number is keyed by (pixel, sample, bounce, dim); bounce 0 is the camera,
 // bounce k >= 1 the k-th surface the path reaches.

@@ -1,4 +1,5 @@
-// Small shading rules both engines share, so that they make the same choice:
+// Small shading rules every engine shares (wavefront, megakernel, reference),
+// so that they make the same choice:
 // how far a shadow ray may go, how many rays the hemisphere estimator casts,
 // which emission a bounce ray may count, and the normal-shading colour.
 #pragma once
