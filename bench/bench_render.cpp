@@ -36,15 +36,13 @@ struct LoadedScene {
 };
 
 RenderSettings course_comparison_settings() {
-  RenderSettings rs;
-  rs.width = 480;
-  rs.height = 360;
-  rs.samples_per_pixel = 64;
-  rs.light_samples = 4;
-  rs.max_depth = 5;
-  rs.adaptive_tolerance = 0.0f;
-  rs.threads = 2;
-  return rs;
+  return {.width = 480,
+          .height = 360,
+          .samples_per_pixel = 64,
+          .light_samples = 4,
+          .max_depth = 5,
+          .adaptive_tolerance = 0.0f,
+          .threads = 2};
 }
 
 const LoadedScene& scene(const std::string& name) {
@@ -103,8 +101,8 @@ void bench_render(benchmark::State& state, const std::string& scene_name, const 
 }
 
 void register_benchmarks() {
-  for (const char* scene_name : {"CBbunny.dae", "CBspheres_lambertian.dae", "CBcoil.dae", "CBgems.dae",
-                                 "CBspheres_microfacet_al_ag.dae"})
+  for (const char* scene_name :
+       {"CBbunny.dae", "CBspheres_lambertian.dae", "CBcoil.dae", "CBgems.dae", "CBspheres_microfacet_al_ag.dae"})
     for (const char* engine : {"wavefront", "wavefront_no_packets", "wavefront_unsorted", "megakernel", "reference"}) {
       std::string name = std::string("render/") + scene_name + "/" + engine + "/threads:2";
       benchmark::RegisterBenchmark(name.c_str(), bench_render, std::string(scene_name), std::string(engine), 2)
@@ -120,8 +118,8 @@ int main(int argc, char** argv) {
   register_benchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::AddCustomContext("isa", std::string(isa_name(active_isa())) + ", " +
-                                         std::to_string(isa_lanes(active_isa())) + " lanes");
+  benchmark::AddCustomContext(
+      "isa", std::string(isa_name(active_isa())) + ", " + std::to_string(isa_lanes(active_isa())) + " lanes");
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

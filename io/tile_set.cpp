@@ -16,11 +16,13 @@ namespace {
 constexpr char kMagic[8] = {'P', 'T', 'T', 'I', 'L', 'E', 'S', '1'};
 constexpr uint64_t kMaxTileSetBytes = uint64_t(1) << 34;  // 16 GiB: 20 B per pixel of a 16384^2 image, and slack
 
-template <class T> void put_array(std::string& out, const std::vector<T>& v) {
+template <class T>
+void put_array(std::string& out, const std::vector<T>& v) {
   out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
-template <class T> bool take_array(std::string_view& in, std::vector<T>& v, size_t n) {
+template <class T>
+bool take_array(std::string_view& in, std::vector<T>& v, size_t n) {
   if (in.size() / sizeof(T) < n) return false;
   v.resize(n);
   std::memcpy(v.data(), in.data(), n * sizeof(T));
@@ -30,8 +32,7 @@ template <class T> bool take_array(std::string_view& in, std::vector<T>& v, size
 
 }  // namespace
 
-TileGrid::TileGrid(const RenderSettings& rs, int tile_size)
-    : area(rs.area()), size(tile_size) {
+TileGrid::TileGrid(const RenderSettings& rs, int tile_size) : area(rs.area()), size(tile_size) {
   columns = (area.width + size - 1) / size;
   rows = (area.height + size - 1) / size;
 }
@@ -101,11 +102,7 @@ bool take_stats(std::string_view& in, RenderStats& s) {
 }
 
 TileGrid TileSetHeader::grid() const {
-  RenderSettings rs;
-  rs.width = width;
-  rs.height = height;
-  rs.region = area;
-  return TileGrid(rs, tile_size);
+  return TileGrid(RenderSettings{.width = width, .height = height, .region = area}, tile_size);
 }
 
 void save_tile_set(const std::filesystem::path& path, const TileSet& set) {
@@ -144,9 +141,8 @@ TileSet load_tile_set(const std::filesystem::path& path) {
     throw bad("truncated header");
   const Region& a = h.area;
   if (h.width < 1 || h.height < 1 || int64_t(h.width) * h.height > kMaxImagePixels || h.tile_size < 1 ||
-      h.tile_size > kMaxTileSize || a.x < 0 || a.y < 0 ||
-      a.width < 1 || a.height < 1 || int64_t(a.x) + a.width > h.width || int64_t(a.y) + a.height > h.height ||
-      h.adaptive > 1 || h.png_truncate > 1)
+      h.tile_size > kMaxTileSize || a.x < 0 || a.y < 0 || a.width < 1 || a.height < 1 ||
+      int64_t(a.x) + a.width > h.width || int64_t(a.y) + a.height > h.height || h.adaptive > 1 || h.png_truncate > 1)
     throw bad("image size, region or tile size out of range");
   TileGrid grid = h.grid();
   constexpr size_t kSmallestTile = 4 + 8 + 4 + 20;  // id, seconds, pixel count, one pixel
@@ -154,7 +150,8 @@ TileSet load_tile_set(const std::filesystem::path& path) {
   std::vector<bool> seen(grid.count(), false);
   for (uint32_t k = 0; k < count; ++k) {  // read before allocated: the file's size bounds what is allocated
     TilePixels t;
-    if (!take_tile(in, grid, h.max_samples, t)) throw bad("a tile that does not fit the image or holds impossible values");
+    if (!take_tile(in, grid, h.max_samples, t))
+      throw bad("a tile that does not fit the image or holds impossible values");
     if (seen[t.tile]) throw bad("tile " + std::to_string(t.tile) + " appears twice");
     seen[t.tile] = true;
     set.tiles.push_back(std::move(t));
@@ -171,9 +168,9 @@ Film assemble_film(const TileSetHeader& h, const std::vector<const TilePixels*>&
   if (missing != have.end()) {
     size_t n = size_t(std::count(have.begin(), have.end(), false));
     Region r = grid.tile(uint32_t(missing - have.begin()));
-    throw InputError(std::to_string(n) + " of " + std::to_string(grid.count()) + " tiles are missing (the first is tile " +
-                     std::to_string(missing - have.begin()) + " at " + std::to_string(r.x) + "," + std::to_string(r.y) +
-                     ")");
+    throw InputError(std::to_string(n) + " of " + std::to_string(grid.count()) +
+                     " tiles are missing (the first is tile " + std::to_string(missing - have.begin()) + " at " +
+                     std::to_string(r.x) + "," + std::to_string(r.y) + ")");
   }
   Film film(h.width, h.height, h.max_samples);
   for (const TilePixels* t : tiles) paste_tile(film, grid, *t);

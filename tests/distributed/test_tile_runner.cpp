@@ -45,14 +45,7 @@ struct KnownPixels {
   }
 };
 
-RenderSettings settings() {
-  RenderSettings rs;
-  rs.width = 70;
-  rs.height = 45;
-  rs.samples_per_pixel = 3;
-  rs.seed = 5;
-  return rs;
-}
+RenderSettings settings() { return RenderSettings{.width = 70, .height = 45, .samples_per_pixel = 3, .seed = 5}; }
 
 TileSetHeader header(const RenderSettings& rs, int tile, const std::string& fingerprint = "engine=test s=3") {
   TileSetHeader h;
@@ -112,9 +105,7 @@ TEST(TileRunner, ShardsMergeIntoTheWholeImageInAnyOrder) {
 std::string merge_error(const std::vector<NamedTileSet>& parts) {
   try {
     merge_shards(parts);
-  } catch (const InputError& e) {
-    return e.what();
-  }
+  } catch (const InputError& e) { return e.what(); }
   return "no error";
 }
 

@@ -30,24 +30,42 @@ struct Mode {
 };
 
 const Mode kModes[] = {
-    {"light_sampling", [](RenderSettings& rs) { rs.max_depth = 4; rs.light_samples = 2; }},
-    {"mis", [](RenderSettings& rs) { rs.max_depth = 4; rs.direct = DirectLighting::kMis; }},
-    {"hemisphere", [](RenderSettings& rs) { rs.max_depth = 3; rs.direct = DirectLighting::kHemisphere; }},
+    {"light_sampling",
+     [](RenderSettings& rs) {
+       rs.max_depth = 4;
+       rs.light_samples = 2;
+     }},
+    {"mis",
+     [](RenderSettings& rs) {
+       rs.max_depth = 4;
+       rs.direct = DirectLighting::kMis;
+     }},
+    {"hemisphere",
+     [](RenderSettings& rs) {
+       rs.max_depth = 3;
+       rs.direct = DirectLighting::kHemisphere;
+     }},
     {"normals", [](RenderSettings& rs) { rs.shading = ShadingMode::kNormals; }},
-    {"only_bounce_2", [](RenderSettings& rs) { rs.max_depth = 2; rs.bounces = BounceMode::kOnlyBounceM; }},
-    {"direct_only", [](RenderSettings& rs) { rs.max_depth = 3; rs.bounces = BounceMode::kDirectOnly; }},
-    {"indirect_only", [](RenderSettings& rs) { rs.max_depth = 3; rs.bounces = BounceMode::kIndirectOnly; }},
+    {"only_bounce_2",
+     [](RenderSettings& rs) {
+       rs.max_depth = 2;
+       rs.bounces = BounceMode::kOnlyBounceM;
+     }},
+    {"direct_only",
+     [](RenderSettings& rs) {
+       rs.max_depth = 3;
+       rs.bounces = BounceMode::kDirectOnly;
+     }},
+    {"indirect_only",
+     [](RenderSettings& rs) {
+       rs.max_depth = 3;
+       rs.bounces = BounceMode::kIndirectOnly;
+     }},
 };
 
 RenderSettings small_settings(int spp, uint32_t seed) {
-  RenderSettings rs;
-  rs.width = 64;
-  rs.height = 48;
-  rs.samples_per_pixel = spp;
-  rs.adaptive_tolerance = 0.0f;
-  rs.threads = 2;
-  rs.seed = seed;
-  return rs;
+  return RenderSettings{
+      .width = 64, .height = 48, .samples_per_pixel = spp, .adaptive_tolerance = 0.0f, .seed = seed, .threads = 2};
 }
 
 /// Relative difference of two pixel values, with an absolute floor for near-black pixels.
@@ -163,8 +181,8 @@ TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
   std::vector<std::string> scenes = {test::project_scene("cornell_spheres.dae").string(),
                                      test::project_scene("cornell_materials.dae").string()};
   if (test::shared_scenes_available())
-    for (const char* n : {"CBspheres_lambertian.dae", "CBempty.dae", "CBbunny.dae", "bunny.dae", "banana.dae", "CBgems.dae",
-                          "CBcoil.dae", "CBspheres_microfacet_al_ag.dae", "bunny_microfacet_cu.dae"})
+    for (const char* n : {"CBspheres_lambertian.dae", "CBempty.dae", "CBbunny.dae", "bunny.dae", "banana.dae",
+                          "CBgems.dae", "CBcoil.dae", "CBspheres_microfacet_al_ag.dae", "bunny_microfacet_cu.dae"})
       scenes.push_back(test::shared_scene(n).string());
   for (const std::string& path : scenes) {
     Scene scene = load_collada_file(path).scene;
@@ -221,9 +239,9 @@ TEST(Determinism, ThreadCountAndWaveSizeDoNotChangeTheImage) {
     Film base = wf::render_wavefront(scene, cam, rs, tracer, {4096}).film;
     for (auto [threads, wave] : {std::pair{2, 4096}, {2, 333}, {2, 16}, {1, 100000}}) {
       rs.threads = threads;
-      expect_identical(base, wf::render_wavefront(scene, cam, rs, tracer, {size_t(wave)}).film,
-                       std::string(name) + ": wavefront threads " + std::to_string(threads) + " wave " +
-                           std::to_string(wave));
+      expect_identical(
+          base, wf::render_wavefront(scene, cam, rs, tracer, {size_t(wave)}).film,
+          std::string(name) + ": wavefront threads " + std::to_string(threads) + " wave " + std::to_string(wave));
     }
     rs.threads = 1;
     Film mk1 = wf::render_megakernel(scene, cam, rs, tracer).film;

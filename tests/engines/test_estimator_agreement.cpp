@@ -59,15 +59,14 @@ struct RenderPair {
 
 RenderPair render_both(const test::EngineUnderTest& e, const Scene& s, int spp, int max_depth, bool quirk) {
   const Camera camera = resolve_camera(s, kWidth, kHeight);
-  RenderSettings rs;
-  rs.width = kWidth;
-  rs.height = kHeight;
-  rs.samples_per_pixel = spp;
-  rs.adaptive_tolerance = 0.0f;
-  rs.threads = 2;
-  rs.max_depth = max_depth;
-  rs.light_samples = 4;
-  rs.cs184_light_quirk = quirk;
+  RenderSettings rs{.width = kWidth,
+                    .height = kHeight,
+                    .samples_per_pixel = spp,
+                    .light_samples = 4,
+                    .max_depth = max_depth,
+                    .adaptive_tolerance = 0.0f,
+                    .threads = 2,
+                    .cs184_light_quirk = quirk};
   RenderPair r;
   r.light = e.render(s, camera, rs).film;
   rs.direct = DirectLighting::kHemisphere;

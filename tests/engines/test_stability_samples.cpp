@@ -60,13 +60,13 @@ TEST(AdaptiveSampling, BlackPixelsAndSeenLightsStopAtTheFirstCheckAndNeverBefore
   const int w = 32, spp = 64;
   for (const test::EngineUnderTest& engine : engines_under_test())
     for (int batch : {1, 8, 128}) {
-      RenderSettings rs;
-      rs.width = rs.height = w;
-      rs.samples_per_pixel = spp;
-      rs.max_depth = 3;
-      rs.adaptive_batch = batch;
-      rs.adaptive_tolerance = 0.05f;
-      rs.threads = 2;
+      RenderSettings rs{.width = w,
+                        .height = w,
+                        .samples_per_pixel = spp,
+                        .max_depth = 3,
+                        .adaptive_batch = batch,
+                        .adaptive_tolerance = 0.05f,
+                        .threads = 2};
       RenderOutput out = engine.render(scene, cam, rs);
       // The first check that can stop a pixel: after `batch` samples, but a
       // variance needs two; with batch > spp there is no check at all.
@@ -95,9 +95,7 @@ TEST(AdaptiveSampling, BlackPixelsAndSeenLightsStopAtTheFirstCheckAndNeverBefore
         }
       // The classification found every kind, and noisy floor pixels sampled on.
       EXPECT_GT(counted[0] * counted[1] * counted[2], 0) << what;
-      if (batch < spp) {
-        EXPECT_GT(floor_continued, 0) << what << ": adaptive sampling stopped noisy pixels";
-      }
+      if (batch < spp) { EXPECT_GT(floor_continued, 0) << what << ": adaptive sampling stopped noisy pixels"; }
     }
 }
 
@@ -161,13 +159,13 @@ TEST(InvalidSamples, NoneFromDegenerateTrianglesOrGrazingRays) {
 TEST(InvalidSamples, CosineSamplingWithManyLightSamplesOnDeltaLights) {
   Scene scene = test::floor_under_delta_lights(true, true);
   for (const test::EngineUnderTest& engine : engines_under_test()) {
-    RenderSettings rs;
-    rs.width = rs.height = 16;
-    rs.samples_per_pixel = 4;
-    rs.max_depth = 3;
-    rs.light_samples = 4;
-    rs.adaptive_tolerance = 0.0f;
-    rs.direct = DirectLighting::kCosine;
+    RenderSettings rs{.width = 16,
+                      .height = 16,
+                      .samples_per_pixel = 4,
+                      .light_samples = 4,
+                      .max_depth = 3,
+                      .adaptive_tolerance = 0.0f,
+                      .direct = DirectLighting::kCosine};
     RenderOutput out = engine.render(scene, test::camera_above_floor(), rs);
     EXPECT_EQ(out.stats.invalid_samples, 0u) << engine.name;
   }

@@ -38,12 +38,7 @@ pt::LoadLimits fuzz_limits() {
 /// Empty if a 4x3, 2-sample, 3-bounce reference render of `scene` has only
 /// finite, non-negative pixels.
 std::string render_violation(const pt::Scene& scene) {
-  pt::RenderSettings rs;
-  rs.width = 4;
-  rs.height = 3;
-  rs.samples_per_pixel = 2;
-  rs.max_depth = 3;
-  rs.adaptive_tolerance = 0.0f;
+  pt::RenderSettings rs{.width = 4, .height = 3, .samples_per_pixel = 2, .max_depth = 3, .adaptive_tolerance = 0.0f};
   pt::Camera camera = pt::resolve_camera(scene, rs.width, rs.height);
   pt::RenderOutput out = pt::reference::render_reference(scene, camera, rs);
   for (const pt::float3& p : out.film.radiance)

@@ -36,7 +36,9 @@ namespace {
 constexpr int kWidth = 256, kHeight = 192, kBlock = 8;
 constexpr double kBlockZ = 5.5;
 
-std::filesystem::path refs() { return std::filesystem::path(PT_SHARED_SCENES).parent_path().parent_path() / "refs" / "course"; }
+std::filesystem::path refs() {
+  return std::filesystem::path(PT_SHARED_SCENES).parent_path().parent_path() / "refs" / "course";
+}
 
 /// Linear value of code v: the middle of its truncation interval, except for
 /// 0, most often an exact black; and the variance of the rounding around it
@@ -100,33 +102,34 @@ TEST(CourseImages, CompatReproducesTheCourseRenderersImages) {
   if (!std::filesystem::is_directory(refs())) GTEST_SKIP() << refs() << " absent";
   for (const char* scene_name : {"CBbunny", "CBspheres_lambertian"}) {
     Scene scene = load_collada_file(test::shared_scene(std::string(scene_name) + ".dae")).scene;
-    Camera camera = resolve_camera(
-        read_camera_settings_file(refs() / ("cam_fullview_" + std::string(scene_name) + "_256x192.txt")), kWidth,
-        kHeight);
+    Camera camera =
+        resolve_camera(read_camera_settings_file(refs() / ("cam_fullview_" + std::string(scene_name) + "_256x192.txt")),
+                       kWidth, kHeight);
     for (int depth : {1, 2, 5}) {
       std::string png = "course_" + std::string(scene_name) + "_m" + std::to_string(depth) + "_s256_l4.png";
       test::DecodedImage course = test::decode_png_file(refs() / png);
       ASSERT_EQ(course.width, kWidth) << png;
       ASSERT_EQ(course.height, kHeight) << png;
       ASSERT_GE(course.channels, 3) << png;
-      RenderSettings rs;
-      rs.width = kWidth;
-      rs.height = kHeight;
-      rs.samples_per_pixel = 256;
-      rs.light_samples = 4;
-      rs.max_depth = depth;
-      rs.adaptive_tolerance = 0.0f;
-      rs.threads = 2;
-      rs.seed = 11;
-      rs.cs184_light_quirk = rs.cs184_invisible_sky = rs.cs184_light_pdf = true;
+      RenderSettings rs{.width = kWidth,
+                        .height = kHeight,
+                        .samples_per_pixel = 256,
+                        .light_samples = 4,
+                        .max_depth = depth,
+                        .adaptive_tolerance = 0.0f,
+                        .seed = 11,
+                        .threads = 2,
+                        .cs184_light_quirk = true,
+                        .cs184_invisible_sky = true,
+                        .cs184_light_pdf = true};
       for (const test::EngineUnderTest& engine : test::engines_under_test()) {
         // The default engine on every image, the others (same paths, same seed) on one.
         if (engine.name != "wavefront" && (depth != 2 || std::string(scene_name) != "CBspheres_lambertian")) continue;
         std::string what = engine.name + " on " + png;
         Comparison c = compare(engine.render(scene, camera, rs).film, course);
         EXPECT_NEAR(c.mean_ratio, 1.0, 0.01) << what << ": mean illuminance ours / course";
-        EXPECT_EQ(c.blocks_over, 0) << what << ": blocks beyond |z| = " << kBlockZ << "; worst at (" << c.worst_x << ", "
-                                    << c.worst_y << "), |z| = " << c.worst_z;
+        EXPECT_EQ(c.blocks_over, 0) << what << ": blocks beyond |z| = " << kBlockZ << "; worst at (" << c.worst_x
+                                    << ", " << c.worst_y << "), |z| = " << c.worst_z;
         std::printf("  %s: mean ours / course %.4f, worst of %d 8x8 blocks |z| = %.2f\n", what.c_str(), c.mean_ratio,
                     c.blocks, c.worst_z);
       }
@@ -140,18 +143,19 @@ TEST(CourseImages, TheComparisonRejectsTheImageWithoutTheLightPdfQuirk) {
   PT_REQUIRE_SHARED_SCENES();
   if (!std::filesystem::is_directory(refs())) GTEST_SKIP() << refs() << " absent";
   Scene scene = load_collada_file(test::shared_scene("CBbunny.dae")).scene;
-  Camera camera = resolve_camera(read_camera_settings_file(refs() / "cam_fullview_CBbunny_256x192.txt"), kWidth, kHeight);
+  Camera camera =
+      resolve_camera(read_camera_settings_file(refs() / "cam_fullview_CBbunny_256x192.txt"), kWidth, kHeight);
   test::DecodedImage course = test::decode_png_file(refs() / "course_CBbunny_m1_s256_l4.png");
   ASSERT_EQ(course.width, kWidth);
-  RenderSettings rs;
-  rs.width = kWidth;
-  rs.height = kHeight;
-  rs.samples_per_pixel = 64;
-  rs.light_samples = 4;
-  rs.max_depth = 1;
-  rs.adaptive_tolerance = 0.0f;
-  rs.threads = 2;
-  rs.cs184_light_quirk = rs.cs184_invisible_sky = true;
+  RenderSettings rs{.width = kWidth,
+                    .height = kHeight,
+                    .samples_per_pixel = 64,
+                    .light_samples = 4,
+                    .max_depth = 1,
+                    .adaptive_tolerance = 0.0f,
+                    .threads = 2,
+                    .cs184_light_quirk = true,
+                    .cs184_invisible_sky = true};
   Comparison c = compare(test::engines_under_test()[1].render(scene, camera, rs).film, course);
   EXPECT_GT(std::fabs(c.mean_ratio - 1.0), 0.01) << "mean ratio " << c.mean_ratio;
   EXPECT_GT(c.blocks_over, c.blocks / 10) << "of " << c.blocks << " blocks";

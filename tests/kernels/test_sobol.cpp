@@ -62,10 +62,7 @@ TEST(Sobol, ReverseBits) {
 }
 
 RenderSettings sobol_settings(uint32_t seed = 3) {
-  RenderSettings rs;
-  rs.seed = seed;
-  rs.sampler = PixelSampler::kSobol;
-  return rs;
+  return RenderSettings{.sampler = PixelSampler::kSobol, .seed = seed};
 }
 
 // The SIMD stages draw exactly the scalar points (the level in use).
@@ -170,7 +167,9 @@ void true_owen_point(uint32_t index, uint32_t seed, float& u, float& v) {
   v = bits_to_unit<uint32_t, float>(true_owen_scramble(sobol_dimension1(i), hash32(seed ^ 0x3u), 24));
 }
 
-void hashed_point(uint32_t index, uint32_t seed, float& u, float& v) { owen_sobol_2d<uint32_t, float>(index, seed, u, v); }
+void hashed_point(uint32_t index, uint32_t seed, float& u, float& v) {
+  owen_sobol_2d<uint32_t, float>(index, seed, u, v);
+}
 
 /// Squared errors over `pixels` independent seeds of an N-point estimate of
 /// integrand(point of pair A, point of pair B), whose exact value is `exact`;
@@ -222,8 +221,8 @@ TEST(Sobol, HashScramblingHasTheErrorOfTrueOwenScrambling) {
   for (auto [name, integrand, exact] : {std::tuple{"step", +step, step_exact}, std::tuple{"cross", +cross, 0.5}}) {
     Ratio r = mse_ratio(squared_errors(hashed_point, integrand, exact, kN, kPixels),
                         squared_errors(true_owen_point, integrand, exact, kN, kPixels));
-    EXPECT_LT(std::fabs(r.value - 1.0), test::kZ5 * r.standard_error) << name << ": MSE ratio " << r.value << " +- "
-                                                                       << r.standard_error;
+    EXPECT_LT(std::fabs(r.value - 1.0), test::kZ5 * r.standard_error)
+        << name << ": MSE ratio " << r.value << " +- " << r.standard_error;
     EXPECT_LT(r.standard_error, 0.05) << name;
   }
   // Power: pairs that share one shuffle (each still scrambled by its own seed)
@@ -231,7 +230,8 @@ TEST(Sobol, HashScramblingHasTheErrorOfTrueOwenScrambling) {
   auto shared = [](uint32_t index, uint32_t seed, float& u, float& v) {
     const uint32_t i = nested_uniform_scramble(index, 0x5eedu);
     u = bits_to_unit<uint32_t, float>(reverse_bits32(laine_karras_permutation(i, hash32(seed))));
-    v = bits_to_unit<uint32_t, float>(reverse_bits32(laine_karras_permutation(sobol_dimension1_reversed(i), hash32(seed ^ 1u))));
+    v = bits_to_unit<uint32_t, float>(
+        reverse_bits32(laine_karras_permutation(sobol_dimension1_reversed(i), hash32(seed ^ 1u))));
   };
   Ratio r = mse_ratio(squared_errors(shared, cross, 0.5, kN, kPixels),
                       squared_errors(true_owen_point, cross, 0.5, kN, kPixels));
@@ -325,7 +325,7 @@ std::vector<double> covered_fractions(const Strips& strips, const Camera& cam) {
 }
 
 struct EdgeErrors {
-  double rmse;       ///< over the pixels that straddle an edge
+  double rmse;           ///< over the pixels that straddle an edge
   test::MeanError bias;  ///< of (estimate - exact) over those pixels
 };
 
@@ -368,7 +368,8 @@ TEST(Sobol, ErrorAtAStepInRadianceFallsFasterThanIndependentSampling) {
   const Scene s = strips.scene();
   const Camera cam = test::look_at({0, 0, 2}, {0, 0, 0}, 0.5f, 0.5f);
   const std::vector<double> exact = covered_fractions(strips, cam);
-  const int straddling = static_cast<int>(std::count_if(exact.begin(), exact.end(), [](double f) { return f > 1e-3 && f < 1 - 1e-3; }));
+  const int straddling =
+      static_cast<int>(std::count_if(exact.begin(), exact.end(), [](double f) { return f > 1e-3 && f < 1 - 1e-3; }));
   ASSERT_GT(straddling, 500);
   const std::vector<int> counts = {16, 64, 256, 1024};
   for (const test::EngineUnderTest& e : test::engines_under_test()) {
@@ -380,12 +381,13 @@ TEST(Sobol, ErrorAtAStepInRadianceFallsFasterThanIndependentSampling) {
     }
     const double slope = log_log_slope(counts, rmse);
     EXPECT_LT(slope, -0.65) << e.name << ": RMSE " << rmse[0] << " .. " << rmse[3];
-    EXPECT_LT(std::fabs(test::z_score(last.bias, 0.0)), test::kZ5) << e.name << ": mean error " << last.bias.mean
-                                                                  << " +- " << last.bias.standard_error;
+    EXPECT_LT(std::fabs(test::z_score(last.bias, 0.0)), test::kZ5)
+        << e.name << ": mean error " << last.bias.mean << " +- " << last.bias.standard_error;
     EXPECT_LT(last.bias.standard_error, 1e-3 * kRadiance) << e.name;
   }
   std::vector<double> rmse;
-  for (int n : counts) rmse.push_back(edge_errors(test::engines_under_test()[1], s, cam, exact, PixelSampler::kIndependent, n).rmse);
+  for (int n : counts)
+    rmse.push_back(edge_errors(test::engines_under_test()[1], s, cam, exact, PixelSampler::kIndependent, n).rmse);
   EXPECT_GT(log_log_slope(counts, rmse), -0.6) << "independent numbers: RMSE " << rmse[0] << " .. " << rmse[3];
 }
 

@@ -21,9 +21,7 @@ void random_numbers(uint32_t seed, const uint32_t* pixels, const uint32_t* sampl
 
 void sobol_points(uint32_t seed, const uint32_t* pixels, const uint32_t* samples, uint32_t bounce, uint32_t dim,
                   size_t n, float* u, float* v, float* w) {
-  RenderSettings rs;
-  rs.seed = seed;
-  rs.sampler = PixelSampler::kSobol;
+  const RenderSettings rs{.sampler = PixelSampler::kSobol, .seed = seed};
   for (size_t i = 0; i < n; i += kLanes) {
     PathSamplerT<vuintK, vfloatK> ps(rs, vuintK::load_unaligned(pixels + i), vuintK::load_unaligned(samples + i));
     vfloatK a, b;
@@ -66,7 +64,8 @@ void gather_floats(const float* base, const int32_t* index, float* out) {
 float min_of(const float* in) { return reduce_min_k(vfloatK::load_unaligned(in)); }
 float max_of(const float* in) { return reduce_max_k(vfloatK::load_unaligned(in)); }
 
-template <class Stream> void compact(const Stream& in, const uint32_t* masks, Stream& out) {
+template <class Stream>
+void compact(const Stream& in, const uint32_t* masks, Stream& out) {
   for (size_t i0 = 0; i0 < in.size; i0 += kLanes) wf::append_lanes(out, masks[i0 / kLanes], wf::load_lanes(in, i0));
 }
 

@@ -88,15 +88,13 @@ float3 pixel_center_direction(const Camera& c, int width, int height, int x, int
 }
 
 RenderSettings fixed_settings(int width, int height, int spp) {
-  RenderSettings rs;
-  rs.width = width;
-  rs.height = height;
-  rs.samples_per_pixel = spp;
-  rs.adaptive_tolerance = 0.0f;
-  rs.threads = 2;
-  rs.seed = 1;
-  rs.max_depth = 1;
-  return rs;
+  return {.width = width,
+          .height = height,
+          .samples_per_pixel = spp,
+          .max_depth = 1,
+          .adaptive_tolerance = 0.0f,
+          .seed = 1,
+          .threads = 2};
 }
 
 }  // namespace pt::test
