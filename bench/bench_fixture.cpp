@@ -60,17 +60,18 @@ SceneFixture::~SceneFixture() = default;
 void SceneFixture::add_tracers(const FixtureOptions& options) {
   tracers_.push_back({"bvh4", each_ray(*bvh4_)});
   TracerEntry packets{"bvh4_packet", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t*) {
-                         bvh4_->intersect(std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b),
-                                          std::span<Hit>(hits + b, e - b));
-                       }};
+                        bvh4_->intersect(std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b),
+                                         std::span<Hit>(hits + b, e - b));
+                      }};
   packets.primary_only = true;
   tracers_.push_back(packets);
   incoherent_ = std::make_unique<IncoherentBatches>(*bvh4_, scene_);
   TracerEntry incoherent{"bvh4_incoherent", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
-                            std::span<const Ray> rays = std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b);
-                            if (kind == RayKind::kShadow) incoherent_->occluded(rays, std::span<uint8_t>(blocked + b, e - b));
-                            else incoherent_->intersect(rays, std::span<Hit>(hits + b, e - b));
-                          }};
+                           std::span<const Ray> rays = std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b);
+                           if (kind == RayKind::kShadow)
+                             incoherent_->occluded(rays, std::span<uint8_t>(blocked + b, e - b));
+                           else incoherent_->intersect(rays, std::span<Hit>(hits + b, e - b));
+                         }};
   incoherent.whole_set = true;
   tracers_.push_back(incoherent);
   Bvh4Options watertight;
@@ -114,12 +115,14 @@ void SceneFixture::add_embree_tracers() {
   for (int k = 0; k < 3; ++k) embree_rays_[k] = convert_rays(sets_[k].rays, k == 0);
   embree_high_ = std::make_unique<EmbreeTracer>(scene_, RTC_BUILD_QUALITY_HIGH);
   embree_default_ = std::make_unique<EmbreeTracer>(scene_, RTC_BUILD_QUALITY_MEDIUM);
-  for (auto [name, tracer] : {std::pair{"embree_high", embree_high_.get()}, {"embree_default", embree_default_.get()}}) {
+  for (auto [name, tracer] :
+       {std::pair{"embree_high", embree_high_.get()}, {"embree_default", embree_default_.get()}}) {
     EmbreeTracer* t = tracer;
-    tracers_.push_back({std::string(name) + "_single", [this, t](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
-                          if (kind == RayKind::kShadow) t->occluded1(embree_rays_[int(kind)], b, e, blocked);
-                          else t->intersect1(embree_rays_[int(kind)], b, e, hits);
-                        }});
+    tracers_.push_back(
+        {std::string(name) + "_single", [this, t](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+           if (kind == RayKind::kShadow) t->occluded1(embree_rays_[int(kind)], b, e, blocked);
+           else t->intersect1(embree_rays_[int(kind)], b, e, hits);
+         }});
   }
   for (int width : {4, 8, 16}) {
     EmbreeTracer* t = embree_high_.get();
@@ -148,8 +151,8 @@ const std::string& SceneFixture::validate(const TracerEntry& t, RayKind kind) {
                                     : !same_hit(oracle_hits_[int(kind)][i], hits[i], scale);
   std::string error;
   if (bad > allowed_mismatches(n))
-    error = t.name + " disagrees with the reference BVH on " + std::to_string(bad) + " of " + std::to_string(n) +
-            " " + ray_kind_name(kind) + " rays of " + label_;
+    error = t.name + " disagrees with the reference BVH on " + std::to_string(bad) + " of " + std::to_string(n) + " " +
+            ray_kind_name(kind) + " rays of " + label_;
   return (validated_[key] = {error, bad}).first;
 }
 

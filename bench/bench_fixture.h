@@ -22,10 +22,10 @@
 namespace pt::bench {
 
 struct FixtureOptions {
-  int width = 1024, height = 768;  ///< primary rays (multiples of 4)
-  size_t brute_force_rays = 16384; ///< brute force traces this prefix of each set
+  int width = 1024, height = 768;   ///< primary rays (multiples of 4)
+  size_t brute_force_rays = 16384;  ///< brute force traces this prefix of each set
   size_t brute_force_max_triangles = 3000;
-  Bvh4Options bvh4;                ///< how the BVH4 under test is built
+  Bvh4Options bvh4;  ///< how the BVH4 under test is built
 };
 
 /// Traces rays [begin, end) of a ray set: closest hits into `hits` or, for the
@@ -35,9 +35,9 @@ using TraceFn = std::function<void(RayKind kind, size_t begin, size_t end, Hit* 
 struct TracerEntry {
   std::string name;
   TraceFn trace;
-  bool primary_only = false;  ///< packet APIs: coherent rays only
-  size_t max_rays = SIZE_MAX; ///< traces only this prefix of a set
-  bool whole_set = false;     ///< called once per set inside the thread arena, never in chunks
+  bool primary_only = false;   ///< packet APIs: coherent rays only
+  size_t max_rays = SIZE_MAX;  ///< traces only this prefix of a set
+  bool whole_set = false;      ///< called once per set inside the thread arena, never in chunks
 };
 
 /// Runs the tracer over rays [0, n) of a set on `threads` threads.
@@ -64,7 +64,8 @@ class SceneFixture {
 
  private:
   /// A TraceFn calling closest(ray, hit) or any(ray) -> bool per ray of the range.
-  template <class Closest, class Any> TraceFn single_rays(Closest closest, Any any) const {
+  template <class Closest, class Any>
+  TraceFn single_rays(Closest closest, Any any) const {
     return [this, closest, any](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
       const std::vector<Ray>& rays = sets_[int(kind)].rays;
       if (kind == RayKind::kShadow)

@@ -3,9 +3,9 @@
 // tracer in the same process on the same rays, 1 and 2 threads, as rays/s
 // counters: this BVH4 (single rays with Moller-Trumbore and watertight
 // leaves; packets of K rays on primary rays; the batch for incoherent
-// rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3 (single rays, and packets of
-// 4/8/16 on primary rays) built with high and default quality; plus build
-// times and memory. Every tracer is validated ray by ray before it is timed.
+// rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3
+// (single rays, and packets of 4/8/16 on primary rays) built with high and default quality; plus build times and
+// memory. Every tracer is validated ray by ray before it is timed.
 //   bench_trace [--quick] [--export-rays DIR] [--collapse-costs=N,L,B,M] [--presplit=B] [benchmark flags]
 // --quick: two small scenes and fewer rays (a smoke run); --export-rays:
 // write every scene's triangles and ray sets for trace_rays, then exit;
@@ -43,9 +43,15 @@ struct SceneSpec {
 
 std::vector<SceneSpec> scene_list(bool quick) {
   if (quick) return {{"CBgems", "CBgems.dae", 0, true}, {"CBbunny", "CBbunny.dae"}};
-  return {{"CBgems", "CBgems.dae", 0, true}, {"teapot", "teapot.dae", 0, true}, {"CBcoil", "CBcoil.dae"},
-          {"CBbunny", "CBbunny.dae"},        {"bunny", "bunny.dae"},              {"CBbunny_x4", "CBbunny.dae", 1},
-          {"CBbunny_x16", "CBbunny.dae", 2}, {"CBbunny_x64", "CBbunny.dae", 3}, {"CBbunny_x256", "CBbunny.dae", 4}};
+  return {{"CBgems", "CBgems.dae", 0, true},
+          {"teapot", "teapot.dae", 0, true},
+          {"CBcoil", "CBcoil.dae"},
+          {"CBbunny", "CBbunny.dae"},
+          {"bunny", "bunny.dae"},
+          {"CBbunny_x4", "CBbunny.dae", 1},
+          {"CBbunny_x16", "CBbunny.dae", 2},
+          {"CBbunny_x64", "CBbunny.dae", 3},
+          {"CBbunny_x256", "CBbunny.dae", 4}};
 }
 
 FixtureOptions g_options;
@@ -148,21 +154,24 @@ void register_benchmarks(const std::vector<SceneSpec>& specs) {
     for (int threads : {1, 2})
       benchmark::RegisterBenchmark(("build/" + spec.label + "/bvh4/threads:" + std::to_string(threads)).c_str(),
                                    build_bvh4_benchmark, spec, threads)
-          ->UseManualTime()->Unit(benchmark::kMillisecond);
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond);
 #ifdef PT_HAVE_EMBREE
     for (int threads : {1, 2})
-      for (auto [name, quality] : {std::pair{"embree_high", RTC_BUILD_QUALITY_HIGH}, {"embree_default", RTC_BUILD_QUALITY_MEDIUM}})
+      for (auto [name, quality] :
+           {std::pair{"embree_high", RTC_BUILD_QUALITY_HIGH}, {"embree_default", RTC_BUILD_QUALITY_MEDIUM}})
         benchmark::RegisterBenchmark(
             ("build/" + spec.label + "/" + name + "/threads:" + std::to_string(threads)).c_str(),
             build_embree_benchmark, spec, quality, threads)
-            ->UseManualTime()->Unit(benchmark::kMillisecond);
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
 #endif
     for (RayKind kind : {RayKind::kPrimary, RayKind::kDiffuse, RayKind::kShadow})
       for (const std::string& tracer : tracer_names(spec, kind))
         for (int threads : {1, 2}) {
           if (threads == 2 && !runs_on_two_threads(tracer)) continue;
-          std::string name = "trace/" + spec.label + "/" + ray_kind_name(kind) + "/" + tracer + "/threads:" +
-                             std::to_string(threads);
+          std::string name =
+              "trace/" + spec.label + "/" + ray_kind_name(kind) + "/" + tracer + "/threads:" + std::to_string(threads);
           auto* b = benchmark::RegisterBenchmark(name.c_str(), trace_benchmark, spec, kind, tracer, threads);
           b->Unit(benchmark::kMillisecond);
           // One thread: rates over the thread's CPU time, which other processes on a
@@ -225,8 +234,8 @@ int main(int argc, char** argv) {
   int n = static_cast<int>(rest.size());
   benchmark::Initialize(&n, rest.data());
   if (benchmark::ReportUnrecognizedArguments(n, rest.data())) return 1;
-  benchmark::AddCustomContext("rays", std::to_string(g_options.width) + "x" + std::to_string(g_options.height) +
-                                          " primary rays per scene");
+  benchmark::AddCustomContext(
+      "rays", std::to_string(g_options.width) + "x" + std::to_string(g_options.height) + " primary rays per scene");
   benchmark::AddCustomContext("bvh4_layout", "128-byte nodes, 160-byte blocks of 4 triangles");
   benchmark::AddCustomContext("isa", std::string(pt::isa_name(pt::active_isa())) + ", " +
                                          std::to_string(pt::isa_lanes(pt::active_isa())) + " lanes");

@@ -18,8 +18,12 @@ bool count_bytes(void*, ssize_t bytes, bool) {
 
 void fill_ray(RTCRayHit& r, const Ray& in) {
   std::memset(&r, 0, sizeof r);
-  r.ray.org_x = in.org.x; r.ray.org_y = in.org.y; r.ray.org_z = in.org.z;
-  r.ray.dir_x = in.dir.x; r.ray.dir_y = in.dir.y; r.ray.dir_z = in.dir.z;
+  r.ray.org_x = in.org.x;
+  r.ray.org_y = in.org.y;
+  r.ray.org_z = in.org.z;
+  r.ray.dir_x = in.dir.x;
+  r.ray.dir_y = in.dir.y;
+  r.ray.dir_z = in.dir.z;
   r.ray.tnear = in.tmin;
   r.ray.tfar = in.tmax;
   r.ray.mask = 0xFFFFFFFFu;
@@ -27,15 +31,20 @@ void fill_ray(RTCRayHit& r, const Ray& in) {
   r.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-template <class Packet, int W> void fill_packets(const std::vector<Ray>& rays, std::vector<Packet>& out) {
+template <class Packet, int W>
+void fill_packets(const std::vector<Ray>& rays, std::vector<Packet>& out) {
   out.resize((rays.size() + W - 1) / W);
   std::memset(out.data(), 0, out.size() * sizeof(Packet));
   for (size_t i = 0; i < out.size() * W; ++i) {
     Packet& p = out[i / W];
     int k = i % W;
     const Ray& r = rays[std::min(i, rays.size() - 1)];  // tails repeat the last ray
-    p.ray.org_x[k] = r.org.x; p.ray.org_y[k] = r.org.y; p.ray.org_z[k] = r.org.z;
-    p.ray.dir_x[k] = r.dir.x; p.ray.dir_y[k] = r.dir.y; p.ray.dir_z[k] = r.dir.z;
+    p.ray.org_x[k] = r.org.x;
+    p.ray.org_y[k] = r.org.y;
+    p.ray.org_z[k] = r.org.z;
+    p.ray.dir_x[k] = r.dir.x;
+    p.ray.dir_y[k] = r.dir.y;
+    p.ray.dir_z[k] = r.dir.z;
     p.ray.tnear[k] = r.tmin;
     p.ray.tfar[k] = r.tmax;
     p.ray.mask[k] = 0xFFFFFFFFu;
@@ -88,8 +97,8 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, RTCBuildQuality quality) {
   rtcSetSceneBuildQuality(scene_, quality);
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryBuildQuality(geom, quality);
-  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
-                             3 * sizeof(float), scene.positions.size());
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0, 3 * sizeof(float),
+                             scene.positions.size());
   rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, scene.triangles.data(), 0,
                              sizeof(TriangleIndices), scene.triangles.size());
   rtcCommitGeometry(geom);
@@ -150,7 +159,7 @@ std::string EmbreeTracer::version_and_isa() {
                   std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_PATCH));
   const char* widest = rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)  ? "16 (AVX-512)"
                        : rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? "8 (AVX/AVX2)"
-                                                                                           : "4 (SSE)";
+                                                                                            : "4 (SSE)";
   rtcReleaseDevice(d);
   return v + ", " + device_config() + ", native packets of " + widest;
 }

@@ -20,7 +20,8 @@ namespace {
 constexpr size_t kChunk = 1024;
 
 /// Runs f(begin, end) over [0, n) in chunks, in parallel in the calling arena.
-template <class F> void for_each_chunk(size_t n, F&& f) {
+template <class F>
+void for_each_chunk(size_t n, F&& f) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
                     [&](const tbb::blocked_range<size_t>& r) { f(r.begin(), r.end()); });
 }

@@ -27,7 +27,8 @@ inline tbb::task_arena& arena_of(int threads) {
 }
 
 /// Calls f(begin, end) over [0, n) in chunks on `threads` threads.
-template <class F> void run_chunks(size_t n, int threads, F&& f) {
+template <class F>
+void run_chunks(size_t n, int threads, F&& f) {
   if (threads <= 1) {
     enable_flush_denormals_to_zero();
     f(size_t{0}, n);

@@ -20,7 +20,8 @@ constexpr uint32_t kBuckets = 1u << kRadixBits;
 /// Interleaves the low three bits of x, y, z.
 uint32_t morton3(uint32_t x, uint32_t y, uint32_t z) {
   uint32_t m = 0;
-  for (int b = 0; b < kCellBits; ++b) m |= (x >> b & 1) << (3 * b) | (y >> b & 1) << (3 * b + 1) | (z >> b & 1) << (3 * b + 2);
+  for (int b = 0; b < kCellBits; ++b)
+    m |= (x >> b & 1) << (3 * b) | (y >> b & 1) << (3 * b + 1) | (z >> b & 1) << (3 * b + 2);
   return m;
 }
 
@@ -38,8 +39,8 @@ uint32_t ray_order_key(const Ray& ray, const BBox& bounds) {
                             cell(ray.org.z, bounds.lower.z, inv(e.z)));
   float l1 = std::fabs(ray.dir.x) + std::fabs(ray.dir.y) + std::fabs(ray.dir.z);
   float s = l1 > 0.0f ? 0.5f / l1 : 0.0f;  // components to [-0.5, 0.5]
-  uint32_t direction = morton3(cell(ray.dir.x * s, -0.5f, 1.0f), cell(ray.dir.y * s, -0.5f, 1.0f),
-                               cell(ray.dir.z * s, -0.5f, 1.0f));
+  uint32_t direction =
+      morton3(cell(ray.dir.x * s, -0.5f, 1.0f), cell(ray.dir.y * s, -0.5f, 1.0f), cell(ray.dir.z * s, -0.5f, 1.0f));
   return origin << (3 * kCellBits) | direction;
 }
 

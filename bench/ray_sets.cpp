@@ -26,7 +26,10 @@ uint32_t morton2(uint32_t x, uint32_t y) {
   return spread(x) | spread(y) << 1;
 }
 
-template <class Rng> float uniform01(Rng& rng) { return std::uniform_real_distribution<float>(0.0f, 1.0f)(rng); }
+template <class Rng>
+float uniform01(Rng& rng) {
+  return std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+}
 
 }  // namespace
 

@@ -42,7 +42,10 @@ Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, std::vector<
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Pass p{s, 0, 0.0};
   for (const Hit& h : hits)
-    if (h.valid()) { ++p.hits; p.sum_t += h.t; }
+    if (h.valid()) {
+      ++p.hits;
+      p.sum_t += h.t;
+    }
   return p;
 }
 
@@ -51,10 +54,11 @@ void report(int threads, const std::vector<double>& seconds, const Pass& last, s
   std::vector<double> s = seconds;
   std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
   double median = s[s.size() / 2];
-  std::printf("{\"threads\":%d,\"isa\":\"%s\",\"mrays_per_s\":%.4f,\"hits\":%zu,\"sum_t\":%.17g,\"build_ms\":%.3f,"
-              "\"rays\":%zu,\"triangles\":%zu,\"passes\":%zu}\n",
-              threads, std::string(isa_name(active_isa())).c_str(), rays / median / 1e6, last.hits, last.sum_t,
-              build_ms, rays, triangles, seconds.size());
+  std::printf(
+      "{\"threads\":%d,\"isa\":\"%s\",\"mrays_per_s\":%.4f,\"hits\":%zu,\"sum_t\":%.17g,\"build_ms\":%.3f,"
+      "\"rays\":%zu,\"triangles\":%zu,\"passes\":%zu}\n",
+      threads, std::string(isa_name(active_isa())).c_str(), rays / median / 1e6, last.hits, last.sum_t, build_ms, rays,
+      triangles, seconds.size());
   std::fflush(stdout);
 }
 

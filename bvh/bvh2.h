@@ -26,8 +26,8 @@ struct Bvh2Node {
 static_assert(sizeof(Bvh2Node) == 32);
 
 struct Bvh2 {
-  std::vector<Bvh2Node> nodes;        ///< root at index 0
-  std::vector<uint32_t> prim_order;   ///< input primitive index per leaf slot
+  std::vector<Bvh2Node> nodes;       ///< root at index 0
+  std::vector<uint32_t> prim_order;  ///< input primitive index per leaf slot
 };
 
 /// Deepest a builder goes before falling back to median splits (so that

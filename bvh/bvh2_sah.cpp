@@ -19,14 +19,14 @@
 namespace pt {
 namespace {
 
-constexpr uint32_t kParallelTaskSize = 4096;    // subtrees at least this big become tasks
+constexpr uint32_t kParallelTaskSize = 4096;     // subtrees at least this big become tasks
 constexpr uint32_t kSweepMax = 16;               // ranges this small get the exact sweep
 constexpr uint32_t kParallelBinSize = 1u << 16;  // ranges at least this big bin in parallel
 constexpr uint32_t kBinGrain = 1u << 14;
 
 /// 48 bytes: one primitive's box, centre and input index, moved by partitions.
 struct alignas(16) PrimRef {
-  float lower[4];   // x, y, z, unused
+  float lower[4];  // x, y, z, unused
   float upper[4];
   float center[4];  // w = input index (bit pattern)
   uint32_t id() const { return std::bit_cast<uint32_t>(center[3]); }
@@ -46,8 +46,10 @@ struct Bounds4 {
     cupper = xsimd::max(cupper, c);
   }
   void add(const Bounds4& b) {
-    lower = xsimd::min(lower, b.lower); upper = xsimd::max(upper, b.upper);
-    clower = xsimd::min(clower, b.clower); cupper = xsimd::max(cupper, b.cupper);
+    lower = xsimd::min(lower, b.lower);
+    upper = xsimd::max(upper, b.upper);
+    clower = xsimd::min(clower, b.clower);
+    cupper = xsimd::max(cupper, b.cupper);
   }
   /// Half surface area plus volume_weight times volume of the primitive box (0 when empty).
   float weight(float volume_weight) const {
@@ -57,7 +59,8 @@ struct Bounds4 {
   }
   BBox box() const {
     alignas(16) float lo[4], hi[4];
-    lower.store_aligned(lo); upper.store_aligned(hi);
+    lower.store_aligned(lo);
+    upper.store_aligned(hi);
     return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
   }
 };
@@ -84,7 +87,10 @@ struct BinSet {
 
   void clear(uint32_t bins) {
     for (int a = 0; a < 3; ++a)
-      for (uint32_t i = 0; i < bins; ++i) { bin[a][i] = Bounds4::empty(); count[a][i] = 0; }
+      for (uint32_t i = 0; i < bins; ++i) {
+        bin[a][i] = Bounds4::empty();
+        count[a][i] = 0;
+      }
   }
 
   void add(const PrimRef& r, const BinMapping& m) {
@@ -97,7 +103,10 @@ struct BinSet {
   }
   void add(const BinSet& o, uint32_t bins) {
     for (int a = 0; a < 3; ++a)
-      for (uint32_t i = 0; i < bins; ++i) { bin[a][i].add(o.bin[a][i]); count[a][i] += o.count[a][i]; }
+      for (uint32_t i = 0; i < bins; ++i) {
+        bin[a][i].add(o.bin[a][i]);
+        count[a][i] += o.count[a][i];
+      }
   }
 };
 
@@ -109,8 +118,8 @@ struct Range {
 
 struct Split {
   int axis = -1;
-  uint32_t bin = 0;       ///< bins 0..bin go left
-  bool ordered = false;   ///< the range is already partitioned: left_count first
+  uint32_t bin = 0;      ///< bins 0..bin go left
+  bool ordered = false;  ///< the range is already partitioned: left_count first
   float cost = INFINITY;
   Bounds4 left = Bounds4::empty(), right = Bounds4::empty();
   uint32_t left_count = 0;
@@ -183,7 +192,10 @@ void SahBuilder::bin_range(const Range& r, const BinMapping& m, BinSet& set) con
         for (uint32_t i = br.begin(); i != br.end(); ++i) part.add(refs_[i], m);
         return part;
       },
-      [&](BinSet a, const BinSet& b) { a.add(b, m.bins); return a; });
+      [&](BinSet a, const BinSet& b) {
+        a.add(b, m.bins);
+        return a;
+      });
 }
 
 Split SahBuilder::best_split(const Range& r) const {
@@ -211,7 +223,13 @@ Split SahBuilder::best_split(const Range& r) const {
       nl += set.count[a][i];
       if (nl == 0 || right_count[i + 1] == 0) continue;
       float cost = left.weight(vw_) * blocks(nl) + right_area[i + 1] * blocks(right_count[i + 1]);
-      if (cost < best.cost) { best.cost = cost; best.axis = a; best.bin = i; best.left = left; best.left_count = nl; }
+      if (cost < best.cost) {
+        best.cost = cost;
+        best.axis = a;
+        best.bin = i;
+        best.left = left;
+        best.left_count = nl;
+      }
     }
   }
   if (best.axis < 0) return best;
@@ -256,7 +274,12 @@ Split SahBuilder::sweep_split(const Range& r) const {
     for (uint32_t i = 1; i < n; ++i) {
       left.add(first[order[a][i - 1]]);
       float cost = left.weight(vw_) * blocks(i) + right_weight[i] * blocks(n - i);
-      if (cost < best.cost) { best.cost = cost; best.axis = a; best.left_count = i; best.left = left; }
+      if (cost < best.cost) {
+        best.cost = cost;
+        best.axis = a;
+        best.left_count = i;
+        best.left = left;
+      }
     }
   }
   PrimRef sorted[kSweepMax];
@@ -331,7 +354,10 @@ Bvh2 SahBuilder::run() {
         for (uint32_t i = br.begin(); i != br.end(); ++i) b.add(refs_[i]);
         return b;
       },
-      [](Bounds4 a, const Bounds4& b) { a.add(b); return a; });
+      [](Bounds4 a, const Bounds4& b) {
+        a.add(b);
+        return a;
+      });
   if (opt_.ray_length > 0.0f) {
     alignas(16) float e[4];
     (root.bounds.upper - root.bounds.lower).store_aligned(e);

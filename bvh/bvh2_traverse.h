@@ -50,7 +50,10 @@ inline bool traverse_bvh2(const Bvh2& bvh, const Ray& ray, float& tmax, LeafFn&&
       uint32_t a = n.left_or_first, b = a + 1;
       float ta = slab_entry(sr, nodes[a].lower, nodes[a].upper, ray.tmin, tmax);
       float tb = slab_entry(sr, nodes[b].lower, nodes[b].upper, ray.tmin, tmax);
-      if (ta > tb) { std::swap(ta, tb); std::swap(a, b); }
+      if (ta > tb) {
+        std::swap(ta, tb);
+        std::swap(a, b);
+      }
       if (ta != INFINITY) {
         if (tb != INFINITY) stack[top++] = b;
         current = a;

@@ -18,9 +18,9 @@ namespace pt {
 /// and upper = -inf, so it fails the slab test without a branch; its child
 /// reference is kEmptyRef and is never followed.
 struct alignas(64) Bvh4Node {
-  float bounds[6][4];   ///< 96 B: lower x, upper x, lower y, upper y, lower z, upper z
-  uint32_t child[4];    ///< 16 B: child references (see bvh4_ref)
-  uint32_t unused[4];   ///< 16 B: padding to two cache lines
+  float bounds[6][4];  ///< 96 B: lower x, upper x, lower y, upper y, lower z, upper z
+  uint32_t child[4];   ///< 16 B: child references (see bvh4_ref)
+  uint32_t unused[4];  ///< 16 B: padding to two cache lines
 };
 static_assert(sizeof(Bvh4Node) == 128 && alignof(Bvh4Node) == 64);
 

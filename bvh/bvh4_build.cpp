@@ -30,7 +30,10 @@ struct Inputs {
 /// nothing to hit, but rounding could make a ray "hit" it at a garbage t.
 bool zero_area(const float3& a, const float3& b, const float3& c) {
   double e1[3], e2[3];
-  for (int k = 0; k < 3; ++k) { e1[k] = double(b[k]) - a[k]; e2[k] = double(c[k]) - a[k]; }
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = double(b[k]) - a[k];
+    e2[k] = double(c[k]) - a[k];
+  }
   return e1[1] * e2[2] == e1[2] * e2[1] && e1[2] * e2[0] == e1[0] * e2[2] && e1[0] * e2[1] == e1[1] * e2[0];
 }
 
@@ -137,7 +140,8 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
                               " build references, more than the 32-bit node and block offsets address");
     Bvh2 bvh2 = build_bvh2_sah(refs.boxes, refs.centers, sah);
     // Only pre-split fragments can repeat a triangle in a leaf.
-    std::span<const uint32_t> fragment_key = presplit ? std::span<const uint32_t>(refs.triangle) : std::span<const uint32_t>();
+    std::span<const uint32_t> fragment_key =
+        presplit ? std::span<const uint32_t>(refs.triangle) : std::span<const uint32_t>();
     topo = collapse_to_bvh4(bvh2, bvh4_box_padding(in.max_abs), collapse, fragment_key);
     fill_blocks(bvh, topo.block_prims, refs.triangle, in, positions, triangles);
     if (stats) {

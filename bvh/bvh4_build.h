@@ -31,14 +31,14 @@ struct Bvh4Options {
 };
 
 struct Bvh4BuildStats {
-  uint32_t triangles = 0;      ///< in the BVH: those with a non-finite vertex or zero area are left out
-  uint32_t references = 0;     ///< build primitives: triangles plus the fragments pre-splitting added
+  uint32_t triangles = 0;   ///< in the BVH: those with a non-finite vertex or zero area are left out
+  uint32_t references = 0;  ///< build primitives: triangles plus the fragments pre-splitting added
   uint32_t nodes = 0, leaves = 0, blocks = 0;
-  int depth = 0;               ///< inner-node levels
-  double sah_cost = 0;         ///< node visits + block tests, area-weighted, root area 1
-  size_t bytes = 0;            ///< nodes + leaf blocks
+  int depth = 0;        ///< inner-node levels
+  double sah_cost = 0;  ///< node visits + block tests, area-weighted, root area 1
+  size_t bytes = 0;     ///< nodes + leaf blocks
   double bytes_per_triangle = 0;
-  double build_ms = 0;         ///< SAH build + collapse + leaf fill
+  double build_ms = 0;  ///< SAH build + collapse + leaf fill
 };
 
 /// BVH4 over triangle i = (positions[t.v0], positions[t.v1], positions[t.v2])

@@ -76,7 +76,10 @@ class Collapser {
     int8_t split_left[5] = {};
     for (int j = 2; j <= 4; ++j)
       for (int k = 1; k < j; ++k)
-        if (float c = l.cost[k - 1] + r.cost[j - k - 1]; c < split[j]) { split[j] = c; split_left[j] = int8_t(k); }
+        if (float c = l.cost[k - 1] + r.cost[j - k - 1]; c < split[j]) {
+          split[j] = c;
+          split_left[j] = int8_t(k);
+        }
     float as_node = area(n) * costs_.node + split[4];
     float as_leaf = p.count <= costs_.max_leaf_size ? area(n) * leaf_cost(p.count) : INFINITY;
     p.leaf = as_leaf <= as_node;
@@ -93,7 +96,10 @@ class Collapser {
   /// The subtrees that fill `slots` slots for binary node n.
   void gather(uint32_t n, int slots, std::vector<uint32_t>& out) const {
     const Plan& p = plans_[n];
-    if (slots == 1) { out.push_back(n); return; }
+    if (slots == 1) {
+      out.push_back(n);
+      return;
+    }
     int k = p.left_slots[slots - 1];
     if (k == 0) return gather(n, slots - 1, out);
     gather(in_.nodes[n].left_or_first, k, out);

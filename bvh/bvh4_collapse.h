@@ -25,10 +25,10 @@ struct Bvh4Topology {
 
 /// SAH costs of the collapse, per unit of area relative to the root.
 struct CollapseCosts {
-  float node = 1.0f;            ///< visiting one 4-wide node
-  float leaf = 0.0f;            ///< visiting a leaf, whatever its size
-  float block = 1.0f;           ///< testing one block of four triangles (on top of `leaf`)
-  uint32_t max_leaf_size = 8;   ///< largest leaf the collapse may form (binary leaves may be larger)
+  float node = 1.0f;           ///< visiting one 4-wide node
+  float leaf = 0.0f;           ///< visiting a leaf, whatever its size
+  float block = 1.0f;          ///< testing one block of four triangles (on top of `leaf`)
+  uint32_t max_leaf_size = 8;  ///< largest leaf the collapse may form (binary leaves may be larger)
   /// Typical ray length relative to the scene's mean extent; 0: rays from far
   /// outside (classic SAH). Rays of a path tracer start inside the scene: a
   /// segment of length l visits box B with probability ~ (area(B) l / 2 + volume(B)),

@@ -23,10 +23,10 @@ PT_ALWAYS_INLINE bool ray_is_traceable(const Ray& r) {
 
 /// Per-ray constants of the node test.
 struct NodeRay {
-  vfloat4 rdir[3];       ///< 1 / dir, components of |dir| < kMinDir clamped to +-kMinDir first
-  vfloat4 org_rdir[3];   ///< org * rdir
-  uint32_t near[3];      ///< byte offset of the near plane row per axis
-  uint32_t far[3];       ///< byte offset of the far plane row per axis
+  vfloat4 rdir[3];      ///< 1 / dir, components of |dir| < kMinDir clamped to +-kMinDir first
+  vfloat4 org_rdir[3];  ///< org * rdir
+  uint32_t near[3];     ///< byte offset of the near plane row per axis
+  uint32_t far[3];      ///< byte offset of the far plane row per axis
 
   static constexpr float kMinDir = 1e-18f;
 

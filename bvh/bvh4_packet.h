@@ -29,9 +29,9 @@ namespace pt {
 /// K rays in SoA form with the per-packet constants of the slab test.
 struct RayPacket {
   vfloatK org[3], dir[3], rdir[3], org_rdir[3], tmin, tmax;
-  const Ray* rays = nullptr;  ///< the rays of the lanes, for single-ray traversal of sparse subtrees
-  uint32_t active = 0;   ///< lanes that trace (requested and traceable)
-  bool uniform = false;  ///< all active lanes share the sign of each direction component
+  const Ray* rays = nullptr;           ///< the rays of the lanes, for single-ray traversal of sparse subtrees
+  uint32_t active = 0;                 ///< lanes that trace (requested and traceable)
+  bool uniform = false;                ///< all active lanes share the sign of each direction component
   uint32_t near[3] = {}, far[3] = {};  ///< plane rows when uniform
 };
 
@@ -65,7 +65,8 @@ struct PacketHitLanes {
 #if defined(__GNUC__) && !defined(__clang__)
 __attribute__((optimize("no-tree-vectorize")))
 #endif
-inline RayPacket load_ray_packet(const Ray* rays, uint32_t lanes) {
+inline RayPacket
+load_ray_packet(const Ray* rays, uint32_t lanes) {
   RayPacket p;
   p.rays = rays;
   if (lanes == 0) return p;
@@ -142,8 +143,7 @@ inline bool triangle_against_packet(const TriangleBlock4& b, int lane, uint32_t 
 
 /// Shortens tmax and records the hit in the lanes where triangle `lane` of
 /// block b is closer.
-inline void intersect_triangle_packet(const TriangleBlock4& b, int lane, uint32_t lanes, RayPacket& p,
-                                      PacketHits& h) {
+inline void intersect_triangle_packet(const TriangleBlock4& b, int lane, uint32_t lanes, RayPacket& p, PacketHits& h) {
   LaneHits<vfloatK> hit;
   if (!triangle_against_packet(b, lane, lanes, p, hit)) return;
   p.tmax = xsimd::select(hit.hit, hit.t, p.tmax);

@@ -24,15 +24,18 @@ namespace pt {
 inline constexpr int kBvh4StackSize = 3 * kBvh2MaxDepth + 4;
 
 /// The block test and its per-ray constants for each leaf form.
-template <TriangleForm F> struct BlockTest;
-template <> struct BlockTest<TriangleForm::kMollerTrumbore> {
+template <TriangleForm F>
+struct BlockTest;
+template <>
+struct BlockTest<TriangleForm::kMollerTrumbore> {
   using RayConstants = MtBlockRay;
   PT_ALWAYS_INLINE static uint32_t test(const TriangleBlock4& b, const RayConstants& r, const vfloat4& tmax,
                                         BlockHits& h) {
     return intersect_block_mt(b, r, tmax, h);
   }
 };
-template <> struct BlockTest<TriangleForm::kWatertight> {
+template <>
+struct BlockTest<TriangleForm::kWatertight> {
   using RayConstants = WatertightBlockRay;
   PT_ALWAYS_INLINE static uint32_t test(const TriangleBlock4& b, const RayConstants& r, const vfloat4& tmax,
                                         BlockHits& h) {
@@ -40,7 +43,8 @@ template <> struct BlockTest<TriangleForm::kWatertight> {
   }
 };
 
-template <class C> inline void count_block(C& c, const TriangleBlock4& b) {
+template <class C>
+inline void count_block(C& c, const TriangleBlock4& b) {
   if constexpr (C::kEnabled) {
     uint32_t valid = 0;
     for (uint32_t p : b.prim) valid += p != kInvalidId;
@@ -80,8 +84,8 @@ inline void order_far_first(Bvh4StackEntry& a, Bvh4StackEntry& b) {
 /// Three or four children hit (i0, i1 and those left in `mask`): pushes them
 /// all, sorts the pushed entries far first, starts loading them, and pops the
 /// nearest, which it returns.
-inline uint32_t push_sorted_pop_nearest(const Bvh4& bvh, const Bvh4Node& node, uint32_t i0, uint32_t i1,
-                                        uint32_t mask, const float d[4], Bvh4StackEntry*& sp) {
+inline uint32_t push_sorted_pop_nearest(const Bvh4& bvh, const Bvh4Node& node, uint32_t i0, uint32_t i1, uint32_t mask,
+                                        const float d[4], Bvh4StackEntry*& sp) {
   Bvh4StackEntry* top = sp;
   *sp++ = {node.child[i0], d[i0]};
   *sp++ = {node.child[i1], d[i1]};
@@ -114,8 +118,8 @@ inline uint32_t push_sorted_pop_nearest(const Bvh4& bvh, const Bvh4Node& node, u
 /// first one's tmax (rare: a pair's two blocks are hit at nearly one t).
 template <TriangleForm F, class C>
 inline void intersect_leaf_closest(const TriangleBlock4* blocks, uint32_t count,
-                                   const typename BlockTest<F>::RayConstants& br, float& tmax, vfloat4& vtmax,
-                                   Hit& hit, C& counters) {
+                                   const typename BlockTest<F>::RayConstants& br, float& tmax, vfloat4& vtmax, Hit& hit,
+                                   C& counters) {
   auto take = [&](const TriangleBlock4& b, const BlockHits& h) {
     tmax = reduce_min(h.t);
     vtmax = vfloat4(tmax);
@@ -153,8 +157,8 @@ inline void intersect_leaf_closest(const TriangleBlock4* blocks, uint32_t count,
 /// Whether any triangle of a leaf lies on the ray within [tmin, tmax); blocks
 /// go two at a time as in intersect_leaf_closest.
 template <TriangleForm F, class C>
-inline bool leaf_occludes(const TriangleBlock4* blocks, uint32_t count,
-                          const typename BlockTest<F>::RayConstants& br, const vfloat4& tmax, C& counters) {
+inline bool leaf_occludes(const TriangleBlock4* blocks, uint32_t count, const typename BlockTest<F>::RayConstants& br,
+                          const vfloat4& tmax, C& counters) {
   uint32_t i = 0;
 #if XSIMD_WITH_AVX2
   if constexpr (F == TriangleForm::kMollerTrumbore) {

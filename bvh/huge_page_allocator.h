@@ -13,13 +13,15 @@
 
 namespace pt {
 
-template <class T> struct HugePageAllocator {
+template <class T>
+struct HugePageAllocator {
   using value_type = T;
   static constexpr std::size_t kHugePage = std::size_t(2) << 20;
   static constexpr std::size_t kThreshold = std::size_t(1) << 20;
 
   HugePageAllocator() = default;
-  template <class U> HugePageAllocator(const HugePageAllocator<U>&) {}
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) {}
 
   /// Bytes an allocation of n elements takes: blocks of kThreshold and more
   /// are rounded up to whole huge pages (all of which become resident).
@@ -41,7 +43,10 @@ template <class T> struct HugePageAllocator {
     if (n * sizeof(T) < kThreshold) ::operator delete(p, std::align_val_t(alignof(T)));
     else std::free(p);
   }
-  template <class U> bool operator==(const HugePageAllocator<U>&) const { return true; }
+  template <class U>
+  bool operator==(const HugePageAllocator<U>&) const {
+    return true;
+  }
 };
 
 }  // namespace pt

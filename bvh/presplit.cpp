@@ -60,9 +60,12 @@ struct Grid {
       double x;
       int level = coarsest_plane(a, b.lo[a], b.hi[a], x);
       if (level == 0) continue;
-      bool better = best == 0 || level < best ||
-                    (level == best && b.hi[a] - b.lo[a] > b.hi[axis] - b.lo[axis]);
-      if (better) { best = level; axis = a; pos = x; }
+      bool better = best == 0 || level < best || (level == best && b.hi[a] - b.lo[a] > b.hi[axis] - b.lo[axis]);
+      if (better) {
+        best = level;
+        axis = a;
+        pos = x;
+      }
     }
     return best;
   }
@@ -130,13 +133,11 @@ BBox rounded_out(const DBox& d, const BBox& tri) {
   return b;
 }
 
-DBox to_double(const BBox& b) {
-  return {{b.lower.x, b.lower.y, b.lower.z}, {b.upper.x, b.upper.y, b.upper.z}};
-}
+DBox to_double(const BBox& b) { return {{b.lower.x, b.lower.y, b.lower.z}, {b.upper.x, b.upper.y, b.upper.z}}; }
 
 /// Emits the fragments of one triangle: `splits` cuts below box `frag`.
-void cut(const Grid& grid, const Point (&tri)[3], const BBox& tri_box, const DBox& frag, uint32_t splits,
-         BBox* out, uint32_t& count) {
+void cut(const Grid& grid, const Point (&tri)[3], const BBox& tri_box, const DBox& frag, uint32_t splits, BBox* out,
+         uint32_t& count) {
   int axis = 0;
   double pos = 0.0;
   DBox left = frag, right = frag, lbox, rbox;
@@ -232,7 +233,7 @@ SplitReferences presplit_triangles(std::span<const float3> corners, float budget
   } else {
     double max_priority = *std::max_element(priority.begin(), priority.end());
     double lo = 0.0, hi = kMaxSplitsPerTriangle / max_priority;  // max_priority > 0 here
-    while (splits_at(hi) <= target) hi *= 2.0;  // ends: at +inf the sum exceeds the target
+    while (splits_at(hi) <= target) hi *= 2.0;                   // ends: at +inf the sum exceeds the target
     for (int it = 0; it < 40; ++it) {
       double mid = 0.5 * (lo + hi);
       (splits_at(mid) <= target ? lo : hi) = mid;

@@ -63,7 +63,9 @@ class SceneBvh4 {
   /// Closest hits of rays[i] into hits[i] for every i. Runs of packet_lanes()
   /// consecutive rays are traced as packets: fastest when they are coherent
   /// (camera rays of a pixel block). Same answers as the single-ray query.
-  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const { queries_->intersect_packets(*this, rays, hits); }
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+    queries_->intersect_packets(*this, rays, hits);
+  }
   /// One packet: traces rays[i] into hits[i] for the lanes i < packet_lanes()
   /// set in `lanes`; the other entries of both arrays are neither read nor written.
   void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const {
@@ -72,7 +74,9 @@ class SceneBvh4 {
   /// One packet of occlusion queries: the lanes i < packet_lanes() set in
   /// `lanes` whose ray rays[i] is blocked (the same answers as occluded(rays[i])).
   /// Fastest when the rays are coherent (shadow rays of one pixel's samples).
-  uint32_t occluded_packet(const Ray* rays, uint32_t lanes) const { return queries_->occluded_packet(*this, rays, lanes); }
+  uint32_t occluded_packet(const Ray* rays, uint32_t lanes) const {
+    return queries_->occluded_packet(*this, rays, lanes);
+  }
 
   /// The instruction-set level the queries run at.
   Isa isa() const { return queries_->isa; }

@@ -18,7 +18,8 @@
 
 namespace pt::bvh4_queries {
 
-template <class C> inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit, C& c) {
+template <class C>
+inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit, C& c) {
   const Bvh4& bvh = s.bvh();
   bool found = bvh.form == TriangleForm::kWatertight ? bvh4_intersect<TriangleForm::kWatertight>(bvh, ray, hit, c)
                                                      : bvh4_intersect<TriangleForm::kMollerTrumbore>(bvh, ray, hit, c);
@@ -34,7 +35,8 @@ template <class C> inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit
   return found;
 }
 
-template <class C> inline bool occluded(const SceneBvh4& s, const Ray& ray, C& c) {
+template <class C>
+inline bool occluded(const SceneBvh4& s, const Ray& ray, C& c) {
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   if (!spheres.empty() && ray_is_traceable(ray)) {
     c.primitives_tested(static_cast<uint32_t>(spheres.size()));

@@ -21,17 +21,22 @@ struct BlockHits {
 };
 
 /// Per-ray constants of the Moller-Trumbore block test, in lanes of type V.
-template <class V> struct MtRayLanes {
+template <class V>
+struct MtRayLanes {
   V org[3], dir[3], tmin;
   MtRayLanes() = default;
   PT_ALWAYS_INLINE explicit MtRayLanes(const Ray& r) : tmin(r.tmin) {
-    for (int a = 0; a < 3; ++a) { org[a] = V(r.org[a]); dir[a] = V(r.dir[a]); }
+    for (int a = 0; a < 3; ++a) {
+      org[a] = V(r.org[a]);
+      dir[a] = V(r.dir[a]);
+    }
   }
 };
 using MtBlockRay = MtRayLanes<vfloat4>;
 
 /// t, u, v of a test in lanes of any width; t = +inf where there is no hit.
-template <class V> struct LaneHits {
+template <class V>
+struct LaneHits {
   V t, u, v;
   typename V::batch_bool_type hit;
 };
@@ -59,8 +64,8 @@ PT_ALWAYS_INLINE bool finish_lanes(const V& det, const V& t_num, const V& u_num,
 }
 
 /// finish_lanes for one block: the mask of lanes hit, their t, u, v in `h`.
-PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 u_num, vfloat4 v_num,
-                                            vbool4 inside, const vfloat4& tmin, const vfloat4& tmax, BlockHits& h) {
+PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 u_num, vfloat4 v_num, vbool4 inside,
+                                            const vfloat4& tmin, const vfloat4& tmax, BlockHits& h) {
   LaneHits<vfloat4> lanes;
   if (!finish_lanes(det, t_num, u_num, v_num, inside, tmin, tmax, lanes, [](vbool4 m) { return movemask(m) != 0; }))
     return 0;
@@ -73,7 +78,8 @@ PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 
 /// (org[3], dir[3]): a block ray repeated over the triangles, or a packet of
 /// rays against one triangle repeated over the rays. The one Moller-Trumbore
 /// of the BVH4: blocks, block pairs and packets all call it.
-template <class V> struct MtNumerators {
+template <class V>
+struct MtNumerators {
   V det, t_num, u_num, v_num;
   typename V::batch_bool_type inside;
 };
@@ -129,7 +135,10 @@ using MtPairRay = MtRayLanes<vfloat8>;
 /// The 4-wide ray constants repeated in both halves.
 PT_ALWAYS_INLINE MtPairRay widen(const MtBlockRay& r) {
   MtPairRay w;
-  for (int a = 0; a < 3; ++a) { w.org[a] = repeat_halves(r.org[a]); w.dir[a] = repeat_halves(r.dir[a]); }
+  for (int a = 0; a < 3; ++a) {
+    w.org[a] = repeat_halves(r.org[a]);
+    w.dir[a] = repeat_halves(r.dir[a]);
+  }
   w.tmin = repeat_halves(r.tmin);
   return w;
 }
@@ -177,7 +186,7 @@ void watertight_edges_in_double(const float ax[4], const float ay[4], const floa
 /// Watertight test on a block in kWatertight form.
 PT_ALWAYS_INLINE uint32_t intersect_block_watertight(const TriangleBlock4& b, const WatertightBlockRay& r,
                                                      const vfloat4& tmax, BlockHits& h) {
-  auto row = [](const float (*rows)[4], uint32_t axis) { return vfloat4::load_aligned(rows[axis]); };
+  auto row = [](const float(*rows)[4], uint32_t axis) { return vfloat4::load_aligned(rows[axis]); };
   vfloat4 az = row(b.v0, r.kz) - r.org[2], bz = row(b.r1, r.kz) - r.org[2], cz = row(b.r2, r.kz) - r.org[2];
   vfloat4 ax = (row(b.v0, r.kx) - r.org[0]) - r.sx * az, ay = (row(b.v0, r.ky) - r.org[1]) - r.sy * az;
   vfloat4 bx = (row(b.r1, r.kx) - r.org[0]) - r.sx * bz, by = (row(b.r1, r.ky) - r.org[1]) - r.sy * bz;
@@ -188,8 +197,12 @@ PT_ALWAYS_INLINE uint32_t intersect_block_watertight(const TriangleBlock4& b, co
   vfloat4 zero(0.0f);
   if (uint32_t on_edge = movemask((u == zero) | (v == zero) | (w == zero))) {
     alignas(16) float fax[4], fay[4], fbx[4], fby[4], fcx[4], fcy[4];
-    ax.store_aligned(fax); ay.store_aligned(fay); bx.store_aligned(fbx);
-    by.store_aligned(fby); cx.store_aligned(fcx); cy.store_aligned(fcy);
+    ax.store_aligned(fax);
+    ay.store_aligned(fay);
+    bx.store_aligned(fbx);
+    by.store_aligned(fby);
+    cx.store_aligned(fcx);
+    cy.store_aligned(fcy);
     watertight_edges_in_double(fax, fay, fbx, fby, fcx, fcy, on_edge, u, v, w);
   }
   vbool4 negative = (u < zero) | (v < zero) | (w < zero);

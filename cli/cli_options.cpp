@@ -26,8 +26,8 @@ constexpr std::array<const char*, 3> kEngines = {"reference", "wavefront", "mega
 constexpr std::array<const char*, 3> kAccels = {"bvh4", "bvh2", "none"};                   // order of AccelChoice
 constexpr std::array<const char*, 4> kBounceModes = {"accumulate", "only-m", "direct", "indirect"};
 constexpr std::array<const char*, 4> kDirectModes = {"light", "hemisphere", "cosine", "mis"};  // DirectLighting
-constexpr std::array<const char*, 2> kSamplers = {"independent", "sobol"};                      // PixelSampler
-constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};                  // RouletteMode
+constexpr std::array<const char*, 2> kSamplers = {"independent", "sobol"};                     // PixelSampler
+constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};                 // RouletteMode
 
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
@@ -80,9 +80,9 @@ void Converter::convert(const RawValues& raw) {
   integer("-r", "width", raw.resolution.empty() ? "" : raw.resolution[0], 1, kMaxDimension, s.width);
   integer("-r", "height", raw.resolution.empty() ? "" : raw.resolution[1], 1, kMaxDimension, s.height);
   integer("-a", "batch size", raw.adaptive.empty() ? "" : raw.adaptive[0], 1, 1 << 24, s.adaptive_batch);
-  number("-a", "tolerance", raw.adaptive.empty() ? "" : raw.adaptive[1],
-         "a number >= 0 (0 turns adaptive sampling off)",
-         [](double v) { return v >= 0.0 && v <= std::numeric_limits<float>::max(); }, s.adaptive_tolerance);
+  number(
+      "-a", "tolerance", raw.adaptive.empty() ? "" : raw.adaptive[1], "a number >= 0 (0 turns adaptive sampling off)",
+      [](double v) { return v >= 0.0 && v <= std::numeric_limits<float>::max(); }, s.adaptive_tolerance);
   if (app_.count("-p") > 0) {
     Region r;
     const char* names[4] = {"region x", "region y", "region width", "region height"};
@@ -90,8 +90,9 @@ void Converter::convert(const RawValues& raw) {
     for (int i = 0; i < 4; ++i) integer("-p", names[i], raw.region[i], i < 2 ? 0 : 1, kMaxDimension, *fields[i]);
     s.region = r;
   }
-  number("--rr", "continuation probability", raw.rr, "a number in (0, 1]",
-         [](double v) { return v > 0.0 && v <= 1.0; }, s.rr_continue);
+  number(
+      "--rr", "continuation probability", raw.rr, "a number in (0, 1]", [](double v) { return v > 0.0 && v <= 1.0; },
+      s.rr_continue);
   integer("--seed", "seed", raw.seed, 0, std::numeric_limits<uint32_t>::max(), s.seed);
   auto finite_at_least_zero = [](double v) { return v >= 0.0 && v <= 1e30; };
   auto positive = [](double v) { return v > 0.0 && v <= 1e30; };
@@ -112,8 +113,9 @@ void Converter::convert(const RawValues& raw) {
               o_.shard_index);
     }
   }
-  number("--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
-         [](double v) { return v > 0.0; }, o_.checkpoint_every);
+  number(
+      "--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
+      [](double v) { return v > 0.0; }, o_.checkpoint_every);
   choice("--engine", "engine", raw.engine, kEngines, o_.engine);
   if (o_.engine == Engine::kReference) o_.accel = AccelChoice::kBvh2;  // its default
   choice("--bvh", "acceleration structure", raw.bvh, kAccels, o_.accel);
@@ -124,9 +126,7 @@ void Converter::convert(const RawValues& raw) {
   if (error.empty()) {  // the level in use: --isa, else the environment's PT_ISA, else the widest
     try {
       o_.isa = app_.count("--isa") > 0 ? resolve_isa(raw.isa) : active_isa();
-    } catch (const IsaError& e) {
-      error = (app_.count("--isa") > 0 ? "--isa: " : "") + std::string(e.what());
-    }
+    } catch (const IsaError& e) { error = (app_.count("--isa") > 0 ? "--isa: " : "") + std::string(e.what()); }
   }
   if (raw.hemisphere) {
     if (error.empty() && app_.count("--direct") > 0 && s.direct != DirectLighting::kHemisphere)
@@ -266,7 +266,8 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("NAME");
   integer("--leaf-size", raw.leaf_size, "Maximum primitives per leaf of the bvh2 build; 4");
   integer("--seed", raw.seed, "Random seed; 0");
-  app.add_option("--rr", raw.rr, "Russian roulette continuation probability (--rr-mode fixed); 0.8 (--cs184-compat: 0.65)")
+  app.add_option("--rr", raw.rr,
+                 "Russian roulette continuation probability (--rr-mode fixed); 0.8 (--cs184-compat: 0.65)")
       ->type_name("NUMBER");
   app.add_option("--rr-mode", raw.rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))")
       ->type_name("NAME");
@@ -274,7 +275,9 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
                  "Direct light: mis (light samples + BSDF, power heuristic), light (importance sampling only), "
                  "hemisphere (= -H) or cosine; mis (--cs184-compat: light)")
       ->type_name("NAME");
-  app.add_option("--sampler", raw.sampler, "Sample source: sobol (Owen-scrambled, stratified) or independent; sobol (--cs184-compat: independent)")
+  app.add_option(
+         "--sampler", raw.sampler,
+         "Sample source: sobol (Owen-scrambled, stratified) or independent; sobol (--cs184-compat: independent)")
       ->type_name("NAME");
   app.add_option("--bounces", raw.bounces, "accumulate, only-m (only the m-th bounce), direct or indirect")
       ->type_name("NAME");
@@ -314,7 +317,8 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
                  "SIMD instruction set of the engines: auto (the widest this CPU runs), sse4.2, avx2, avx512 or neon; "
                  "also PT_ISA in the environment; auto")
       ->type_name("NAME");
-  app.add_flag("--list-isa", raw.list_isa, "List the instruction sets compiled in, whether this CPU runs them, and exit");
+  app.add_flag("--list-isa", raw.list_isa,
+               "List the instruction sets compiled in, whether this CPU runs them, and exit");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
 }
 

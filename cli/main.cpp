@@ -91,8 +91,8 @@ void print_memory(const cli::Options& o, const Scene& scene, const RenderOutput&
                   size_t queue_bytes, const std::filesystem::path& output) {
   cli::MemoryReport report;
   cli::add_scene_memory(report, scene);
-  cli::EngineFootprint footprint{o.engine, cli::accel_name(o.accel), {engine.accel_bytes(), engine.accel_used_bytes()},
-                                 queue_bytes};
+  cli::EngineFootprint footprint{
+      o.engine, cli::accel_name(o.accel), {engine.accel_bytes(), engine.accel_used_bytes()}, queue_bytes};
   cli::add_render_memory(report, o.settings, scene, out, footprint, output);
   report.peak_rss_bytes = cli::peak_resident_bytes();
   std::printf("%s", cli::format_memory_report(report).c_str());
@@ -123,13 +123,14 @@ struct Prepared {
   Camera camera;
   std::filesystem::path output;
   std::unique_ptr<cli::EngineRunner> engine;
-  Checkpointing checkpoint;       ///< one process: the pass-based engines' state
-  std::optional<TileSet> tiles;   ///< tiles (--shard, mpirun): the header and a checkpoint's tiles
+  Checkpointing checkpoint;      ///< one process: the pass-based engines' state
+  std::optional<TileSet> tiles;  ///< tiles (--shard, mpirun): the header and a checkpoint's tiles
 };
 
 void prepare(const cli::Options& o, const dist::MpiJob& job, Prepared& p) {
   const bool speaks = job.rank() == 0 && !o.quiet;
-  std::filesystem::path scene_path = o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE) : std::filesystem::path(o.scene_path);
+  std::filesystem::path scene_path =
+      o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE) : std::filesystem::path(o.scene_path);
   p.loaded = load_collada_file(scene_path);
   if (!o.environment_map.empty()) {
     RgbImage map = read_exr(o.environment_map);
@@ -148,16 +149,18 @@ void prepare(const cli::Options& o, const dist::MpiJob& job, Prepared& p) {
   if (speaks) std::printf("%s\n", scene_summary(p.loaded).c_str());
   const bool tiled = o.shard_count > 0 || job.size() > 1;
   if (tiled && (o.stats || o.memory || !o.convergence_csv.empty()))
-    throw InputError(std::string(o.stats ? "--stats" : o.memory ? "--memory" : "--convergence-csv") +
+    throw InputError(std::string(o.stats    ? "--stats"
+                                 : o.memory ? "--memory"
+                                            : "--convergence-csv") +
                      " reports one whole-image render in one process; not with --shard or mpirun");
   if (!o.convergence_csv.empty()) {
     check_writable(o.convergence_csv);
   } else {
-    p.output = !o.output_path.empty()  ? std::filesystem::path(o.output_path)
-               : o.shard_count > 0     ? std::filesystem::path(std::filesystem::path(scene.name).stem().string() + "." +
-                                                               std::to_string(o.shard_index) + "-of-" +
-                                                               std::to_string(o.shard_count) + ".tiles")
-                                       : default_output(o, scene);
+    p.output = !o.output_path.empty() ? std::filesystem::path(o.output_path)
+               : o.shard_count > 0    ? std::filesystem::path(std::filesystem::path(scene.name).stem().string() + "." +
+                                                              std::to_string(o.shard_index) + "-of-" +
+                                                              std::to_string(o.shard_count) + ".tiles")
+                                      : default_output(o, scene);
     if (job.rank() != 0) {
       // only rank 0 writes
     } else if (o.shard_count > 0) {
@@ -186,8 +189,9 @@ void prepare(const cli::Options& o, const dist::MpiJob& job, Prepared& p) {
       }
     } else {
       p.checkpoint.fingerprint = render_fingerprint(cli::engine_name(o.engine), scene, p.camera, rs);
-      p.checkpoint.resumed = load_checkpoint(p.checkpoint.path, p.checkpoint.fingerprint, size_t(rs.area().width) * rs.area().height,
-                                             static_cast<uint32_t>(rs.samples_per_pixel));
+      p.checkpoint.resumed =
+          load_checkpoint(p.checkpoint.path, p.checkpoint.fingerprint, size_t(rs.area().width) * rs.area().height,
+                          static_cast<uint32_t>(rs.samples_per_pixel));
       if (p.checkpoint.resumed && speaks)
         std::printf("Resuming from %s (%u samples per pixel done)\n", p.checkpoint.path.c_str(),
                     p.checkpoint.resumed->samples_done);
@@ -220,7 +224,8 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
   if (!p.checkpoint.path.empty()) std::filesystem::remove(p.checkpoint.path);  // complete: nothing to resume
   if (!o.quiet) {
     cli::print_report(o, out.stats);
-    std::printf("Wrote %s%s\n", p.output.c_str(), rs.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");
+    std::printf("Wrote %s%s\n", p.output.c_str(),
+                rs.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");
   }
   if (o.memory) print_memory(o, p.loaded.scene, out, *p.engine, queue_bytes, p.output);
   return 0;
@@ -276,13 +281,9 @@ int render_across_ranks(const cli::Options& o, const dist::MpiJob& job, Prepared
 std::string current_error() {
   try {
     throw;
-  } catch (const std::bad_alloc&) {
-    return "out of memory";
-  } catch (const std::exception& e) {
+  } catch (const std::bad_alloc&) { return "out of memory"; } catch (const std::exception& e) {
     return e.what();
-  } catch (...) {
-    return "unknown error";
-  }
+  } catch (...) { return "unknown error"; }
 }
 
 /// --export-scene: the loaded scene and the render's camera as JSON; no render.
@@ -313,9 +314,7 @@ int run(const cli::Options& o, const dist::MpiJob& job) {
     std::string error;
     try {
       prepare(o, job, p);
-    } catch (...) {
-      error = current_error();
-    }
+    } catch (...) { error = current_error(); }
     dist::MpiJob::Readiness ready = job.agree_ready(error.empty());
     if (!ready.all) {
       if (!error.empty() && job.rank() == 0) std::fprintf(stderr, "error: %s\n", error.c_str());
@@ -327,8 +326,9 @@ int run(const cli::Options& o, const dist::MpiJob& job) {
   if (!o.convergence_csv.empty()) return cli::run_convergence(o, *p.engine, g_cancel);
   if (o.shard_count > 0 && job.rank() != 0) return 0;  // a shard is one process's work
   if (o.shard_count > 0)
-    return cli::run_shard(o, p.loaded.scene, p.camera, *p.engine, p.output, g_cancel) ? 0
-                                                                                     : 128 + (g_signal ? g_signal : SIGINT);
+    return cli::run_shard(o, p.loaded.scene, p.camera, *p.engine, p.output, g_cancel)
+               ? 0
+               : 128 + (g_signal ? g_signal : SIGINT);
 #if PT_WITH_MPI
   if (job.size() > 1) return render_across_ranks(o, job, p);
 #endif

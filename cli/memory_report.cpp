@@ -12,7 +12,8 @@
 namespace pt::cli {
 namespace {
 
-template <class V> Footprint bytes_of(const V& v) {
+template <class V>
+Footprint bytes_of(const V& v) {
   return {v.capacity() * sizeof(typename V::value_type), v.size() * sizeof(typename V::value_type)};
 }
 Footprint operator+(Footprint a, Footprint b) { return {a.allocated + b.allocated, a.used + b.used}; }
@@ -61,7 +62,8 @@ void add_scene_memory(MemoryReport& r, const Scene& s) {
   add(r, "scene: materials", bytes_of(s.materials), MemoryScale::kFixed);
   add(r, "scene: lights", bytes_of(s.area_lights) + bytes_of(s.point_lights) + bytes_of(s.directional_lights),
       MemoryScale::kFixed);
-  if (s.environment) add(r, "scene: environment map (texels, CDFs)", exactly(s.environment->bytes()), MemoryScale::kFixed);
+  if (s.environment)
+    add(r, "scene: environment map (texels, CDFs)", exactly(s.environment->bytes()), MemoryScale::kFixed);
 }
 
 void add_render_memory(MemoryReport& r, const RenderSettings& rs, const Scene& scene, const RenderOutput& out,

@@ -21,8 +21,8 @@ enum class MemoryScale { kTriangle, kPixel, kThread, kFixed };
 
 struct MemoryLine {
   std::string structure;
-  size_t bytes = 0;        ///< allocated
-  size_t used = 0;         ///< of which in use (vector sizes rather than capacities)
+  size_t bytes = 0;  ///< allocated
+  size_t used = 0;   ///< of which in use (vector sizes rather than capacities)
   MemoryScale scale = MemoryScale::kFixed;
   bool transient = false;  ///< freed before the render ends (not held with the rest)
 };

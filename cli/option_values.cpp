@@ -17,15 +17,14 @@ std::string prefix(std::string_view flag, std::string_view what) {
 
 }  // namespace
 
-ValueError parse_integer(std::string_view flag, std::string_view what, std::string_view text, int64_t lo,
-                         int64_t hi, int64_t& out) {
+ValueError parse_integer(std::string_view flag, std::string_view what, std::string_view text, int64_t lo, int64_t hi,
+                         int64_t& out) {
   std::string range = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
   int64_t v = 0;
   const char* last = text.data() + text.size();
   auto [end, ec] = std::from_chars(text.data(), last, v);
   bool whole = !text.empty() && end == last;
-  if (!whole || ec != std::errc() || v < lo || v > hi)
-    return prefix(flag, what) + range + ", got " + quoted(text);
+  if (!whole || ec != std::errc() || v < lo || v > hi) return prefix(flag, what) + range + ", got " + quoted(text);
   out = v;
   return {};
 }

@@ -15,8 +15,8 @@ namespace pt::cli {
 using ValueError = std::string;
 
 /// Sets `out`, or returns "FLAG: WHAT must be an integer from LO to HI, got "TEXT"".
-ValueError parse_integer(std::string_view flag, std::string_view what, std::string_view text, int64_t lo,
-                         int64_t hi, int64_t& out);
+ValueError parse_integer(std::string_view flag, std::string_view what, std::string_view text, int64_t lo, int64_t hi,
+                         int64_t& out);
 
 /// Sets `out` if `text` is a finite decimal number for which accept(value)
 /// holds; otherwise returns "FLAG: WHAT must be RANGE, got "TEXT"".

@@ -40,17 +40,18 @@ void print_report(const Options& o, const RenderStats& st, int ranks, double ran
                             ? "scalar"
                             : std::string(isa_name(o.isa)) + ", " + std::to_string(isa_lanes(o.isa)) + " lanes";
   std::string where = ranks > 1 ? " on " + std::to_string(ranks) + " MPI ranks" : "";
-  std::printf("Rendered in %.3f s%s with the %s engine (%s, %s); %llu rays traced (camera %llu, bounce %llu, "
-              "shadow %llu); %.2f million rays per second; ",
-              st.seconds, where.c_str(), engine_name(o.engine), accel_name(o.accel), kernels.c_str(),
-              static_cast<unsigned long long>(st.rays()), static_cast<unsigned long long>(st.camera_rays),
-              static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays);
+  std::printf(
+      "Rendered in %.3f s%s with the %s engine (%s, %s); %llu rays traced (camera %llu, bounce %llu, "
+      "shadow %llu); %.2f million rays per second; ",
+      st.seconds, where.c_str(), engine_name(o.engine), accel_name(o.accel), kernels.c_str(),
+      static_cast<unsigned long long>(st.rays()), static_cast<unsigned long long>(st.camera_rays),
+      static_cast<unsigned long long>(st.bounce_rays), static_cast<unsigned long long>(st.shadow_rays), mrays);
   if (st.intersection_tests > 0 || st.rays() == 0)
     std::printf("%.2f intersection tests per ray", st.rays() ? double(st.intersection_tests) / st.rays() : 0.0);
-  else
-    std::printf("intersection tests not counted (--count-tests)");
+  else std::printf("intersection tests not counted (--count-tests)");
   std::printf("; %llu samples", static_cast<unsigned long long>(st.samples));
-  if (st.invalid_samples) std::printf("; %llu invalid samples discarded", static_cast<unsigned long long>(st.invalid_samples));
+  if (st.invalid_samples)
+    std::printf("; %llu invalid samples discarded", static_cast<unsigned long long>(st.invalid_samples));
   if (ranks > 1) std::printf("; the ranks were busy %.3f s summed", rank_seconds);
   std::printf("\n");
 }

@@ -64,8 +64,8 @@ int run_merge(const Options& o) {
   if (h.adaptive) write_sample_rate_image(rate_image_path(output), merged.film);
   if (!o.variance_file.empty()) write_variance_image(o.variance_file, merged.film);
   if (!o.quiet)
-    std::printf("Merged %zu parts (%zu tiles) into %s; the shards rendered %llu rays in %.3f s summed\n",
-                parts.size(), merged.tiles, output.c_str(), static_cast<unsigned long long>(merged.stats.rays()),
+    std::printf("Merged %zu parts (%zu tiles) into %s; the shards rendered %llu rays in %.3f s summed\n", parts.size(),
+                merged.tiles, output.c_str(), static_cast<unsigned long long>(merged.stats.rays()),
                 merged.stats.seconds);
   return 0;
 }

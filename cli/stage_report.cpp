@@ -22,7 +22,8 @@ void print_stage_stats(const wf::StageStats& s, const RenderStats& totals, Isa i
   std::printf("kernels: %s, %zu lanes\n", std::string(isa_name(isa)).c_str(), isa_lanes(isa));
   std::printf("stage                             thread-seconds   share\n");
   for (int i = 0; i < static_cast<int>(wf::Stage::kCount); ++i)
-    std::printf("  %-30s %12.3f  %5.1f%%\n", wf::kStageNames[i], s.seconds[i], busy > 0 ? 100 * s.seconds[i] / busy : 0);
+    std::printf("  %-30s %12.3f  %5.1f%%\n", wf::kStageNames[i], s.seconds[i],
+                busy > 0 ? 100 * s.seconds[i] / busy : 0);
   using wf::Stage;
   std::printf("ray throughput inside the render (stage time per ray):\n");
   rate_line("camera rays (packets)", s.camera_rays, seconds_of(s, Stage::kIntersectCamera));

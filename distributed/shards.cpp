@@ -32,8 +32,8 @@ namespace {
 /// The first field in which two headers differ, for the error message.
 std::string first_difference(const TileSetHeader& a, const TileSetHeader& b) {
   if (a.width != b.width || a.height != b.height)
-    return "image " + std::to_string(b.width) + "x" + std::to_string(b.height) + " against " +
-           std::to_string(a.width) + "x" + std::to_string(a.height);
+    return "image " + std::to_string(b.width) + "x" + std::to_string(b.height) + " against " + std::to_string(a.width) +
+           "x" + std::to_string(a.height);
   if (a.tile_size != b.tile_size)
     return "tile size " + std::to_string(b.tile_size) + " against " + std::to_string(a.tile_size);
   if (a.fingerprint != b.fingerprint) {
@@ -59,8 +59,8 @@ MergedImage merge_shards(const std::vector<NamedTileSet>& parts) {
     for (const TilePixels& t : set.tiles) {
       auto [it, fresh] = owner.emplace(t.tile, p);
       if (!fresh)
-        throw InputError(parts[p].name + ": tile " + std::to_string(t.tile) + " is also in " +
-                         parts[it->second].name + " (the same shard given twice?)");
+        throw InputError(parts[p].name + ": tile " + std::to_string(t.tile) + " is also in " + parts[it->second].name +
+                         " (the same shard given twice?)");
     }
   }
   MergedImage merged;
@@ -73,9 +73,7 @@ MergedImage merge_shards(const std::vector<NamedTileSet>& parts) {
   merged.tiles = tiles.size();
   try {
     merged.film = assemble_film(merged.header, tiles);
-  } catch (const InputError& e) {
-    throw InputError("--merge: " + std::string(e.what()) + "; give every shard's part");
-  }
+  } catch (const InputError& e) { throw InputError("--merge: " + std::string(e.what()) + "; give every shard's part"); }
   return merged;
 }
 

@@ -15,10 +15,14 @@ inline uint64_t fnv1a(const void* data, size_t n, uint64_t h = 0xcbf29ce48422232
   return h;
 }
 
-template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+template <class T>
+void put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
 
 /// Takes sizeof(T) bytes off the front of `in`; false if there are fewer.
-template <class T> bool take(std::string_view& in, T& v) {
+template <class T>
+bool take(std::string_view& in, T& v) {
   if (in.size() < sizeof v) return false;
   std::memcpy(&v, in.data(), sizeof v);
   in.remove_prefix(sizeof v);

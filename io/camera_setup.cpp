@@ -85,15 +85,29 @@ CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) 
       throw InputError(path.string() + ": camera file field " + name + " is not a finite number: \"" + excerpt(tok) +
                        "\"");
   };
-  read("hFov", f.hfov_deg); read("vFov", f.vfov_deg); read("aspect", f.aspect);
-  read("nClip", f.near_clip); read("fClip", f.far_clip);
-  read("pos.x", f.position.x); read("pos.y", f.position.y); read("pos.z", f.position.z);
-  read("target.x", f.target.x); read("target.y", f.target.y); read("target.z", f.target.z);
-  read("phi", f.phi); read("theta", f.theta); read("r", f.r); read("minR", f.min_r); read("maxR", f.max_r);
+  read("hFov", f.hfov_deg);
+  read("vFov", f.vfov_deg);
+  read("aspect", f.aspect);
+  read("nClip", f.near_clip);
+  read("fClip", f.far_clip);
+  read("pos.x", f.position.x);
+  read("pos.y", f.position.y);
+  read("pos.z", f.position.z);
+  read("target.x", f.target.x);
+  read("target.y", f.target.y);
+  read("target.z", f.target.z);
+  read("phi", f.phi);
+  read("theta", f.theta);
+  read("r", f.r);
+  read("minR", f.min_r);
+  read("maxR", f.max_r);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) read("c2w", f.c2w[i][j]);
-  read("screenW", f.screen_w); read("screenH", f.screen_h); read("screenDist", f.screen_dist);
-  read("focalDistance", f.focal_distance); read("lensRadius", f.lens_radius);
+  read("screenW", f.screen_w);
+  read("screenH", f.screen_h);
+  read("screenDist", f.screen_dist);
+  read("focalDistance", f.focal_distance);
+  read("lensRadius", f.lens_radius);
   if (!(f.hfov_deg > 0 && f.hfov_deg < 180 && f.vfov_deg > 0 && f.vfov_deg < 180))
     throw InputError(path.string() + ": camera file fields of view must be between 0 and 180 degrees");
   if (!(f.near_clip >= 0 && f.far_clip > f.near_clip))

@@ -38,13 +38,15 @@ std::string render_fingerprint(const std::string& engine, const Scene& scene, co
     << " materials=" << fnv1a(scene.materials.data(), scene.materials.size() * sizeof(Material))
     << " camera=" << fnv1a(&c, sizeof c) << " size=" << rs.width << "x" << rs.height << " s=" << rs.samples_per_pixel
     << " l=" << rs.light_samples << " m=" << rs.max_depth << " a=" << rs.adaptive_batch << "," << rs.adaptive_tolerance
-    << " rr=" << rs.rr_continue << " rr_mode=" << int(rs.roulette) << " sampler=" << int(rs.sampler) << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces)
-    << " shading=" << int(rs.shading) << " seed=" << rs.seed << " quirks=" << rs.cs184_light_quirk
-    << rs.cs184_invisible_sky << rs.cs184_light_pdf << rs.cs184_materials;
+    << " rr=" << rs.rr_continue << " rr_mode=" << int(rs.roulette) << " sampler=" << int(rs.sampler)
+    << " direct=" << int(rs.direct) << " bounces=" << int(rs.bounces) << " shading=" << int(rs.shading)
+    << " seed=" << rs.seed << " quirks=" << rs.cs184_light_quirk << rs.cs184_invisible_sky << rs.cs184_light_pdf
+    << rs.cs184_materials;
   if (scene.environment)
     o << " environment=" << scene.environment->width() << "x" << scene.environment->height() << ","
       << environment_hash(*scene.environment);
-  if (rs.region) o << " region=" << rs.region->x << "," << rs.region->y << "," << rs.region->width << "," << rs.region->height;
+  if (rs.region)
+    o << " region=" << rs.region->x << "," << rs.region->y << "," << rs.region->width << "," << rs.region->height;
   return o.str();
 }
 
@@ -67,7 +69,8 @@ std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, c
   const uint64_t max_bytes = (uint64_t(1) << 20) + uint64_t(pixel_count) * sizeof(PixelAccumulator);
   std::string data = read_regular_file(path, "checkpoint", max_bytes);
   auto corrupt = [&](const char* what) { return InputError(path.string() + ": not a usable checkpoint: " + what); };
-  if (data.size() < sizeof kMagic + 8 || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0) throw corrupt("bad header");
+  if (data.size() < sizeof kMagic + 8 || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0)
+    throw corrupt("bad header");
   uint64_t stored_sum = 0;
   std::memcpy(&stored_sum, data.data() + data.size() - 8, 8);
   if (fnv1a(data.data(), data.size() - 8) != stored_sum) throw corrupt("checksum mismatch");

@@ -36,8 +36,7 @@ CameraDescription read_camera(ColladaDocument& doc, pugi::xml_node camera, const
     }
     c.near_clip = doc.scalar(persp.child("znear"), c.near_clip);
     c.far_clip = doc.scalar(persp.child("zfar"), c.far_clip);
-    if (!(c.near_clip >= 0.0f && c.far_clip > c.near_clip))
-      doc.fail(persp, "needs 0 <= znear < zfar");
+    if (!(c.near_clip >= 0.0f && c.far_clip > c.near_clip)) doc.fail(persp, "needs 0 <= znear < zfar");
   }
   float3 d = world.transform_point({0.0f, 0.0f, -1.0f});
   float len = length(d);

@@ -14,7 +14,8 @@ namespace {
 bool is_space(char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }
 
 /// Calls f(token) for each whitespace-separated token of s.
-template <class F> void for_each_token(std::string_view s, F&& f) {
+template <class F>
+void for_each_token(std::string_view s, F&& f) {
   size_t i = 0;
   while (i < s.size()) {
     while (i < s.size() && is_space(s[i])) ++i;
@@ -60,8 +61,8 @@ ColladaDocument::ColladaDocument(std::string label, std::string text)
       if (!inserted) {
         pugi::xml_node later = line_of(n) > line_of(it->second) ? n : it->second;
         pugi::xml_node earlier = later == n ? it->second : n;
-        fail(later, "id \"" + excerpt(id.value()) + "\" is already defined on line " +
-                        std::to_string(line_of(earlier)));
+        fail(later,
+             "id \"" + excerpt(id.value()) + "\" is already defined on line " + std::to_string(line_of(earlier)));
       }
     }
     for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
@@ -138,8 +139,7 @@ std::vector<float> ColladaDocument::floats(pugi::xml_node element) const {
 
 std::vector<float> ColladaDocument::floats(pugi::xml_node element, size_t n) const {
   std::vector<float> v = floats(element);
-  if (v.size() != n)
-    fail(element, "holds " + std::to_string(v.size()) + " numbers, expected " + std::to_string(n));
+  if (v.size() != n) fail(element, "holds " + std::to_string(v.size()) + " numbers, expected " + std::to_string(n));
   return v;
 }
 
@@ -160,14 +160,15 @@ std::vector<uint32_t> ColladaDocument::indices(pugi::xml_node element, uint64_t 
   for_each_token(element.child_value(), [&](std::string_view tok) {
     uint64_t v = 0;
     auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (!tok.empty() && tok.front() == '-') fail(element, std::string("negative ") + what + " \"" + excerpt(tok) + "\"");
+    if (!tok.empty() && tok.front() == '-')
+      fail(element, std::string("negative ") + what + " \"" + excerpt(tok) + "\"");
     if (ec == std::errc::result_out_of_range && end == tok.data() + tok.size())
       fail(element, std::string(what) + " \"" + excerpt(tok) + "\" is out of range");
     if (ec != std::errc() || end != tok.data() + tok.size())
       fail(element, "\"" + excerpt(tok) + "\" is not a non-negative integer");
     if (v >= limit)
-      fail(element, std::string(what) + " " + std::to_string(v) + " is out of range (" + std::to_string(limit) +
-                        " available)");
+      fail(element,
+           std::string(what) + " " + std::to_string(v) + " is out of range (" + std::to_string(limit) + " available)");
     out.push_back(static_cast<uint32_t>(v));
   });
   return out;

@@ -62,8 +62,7 @@ void add_light(ColladaDocument& doc, pugi::xml_node light, const Mat4& world, Sc
   } else if (type == "spot") {
     doc.warn(light, "spot lights are not supported; skipped");
   } else {
-    doc.warn(light, "unknown light type" + (type.empty() ? std::string() : " <" + excerpt(type) + ">") +
-                        "; skipped");
+    doc.warn(light, "unknown light type" + (type.empty() ? std::string() : " <" + excerpt(type) + ">") + "; skipped");
   }
 }
 

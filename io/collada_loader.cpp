@@ -78,8 +78,7 @@ class SceneReader {
 
   Mat4 read_matrix(pugi::xml_node e) {
     std::vector<float> v = doc_.floats(e);
-    if (v.size() > 16 || v.size() < 12)
-      doc_.fail(e, "holds " + std::to_string(v.size()) + " numbers, expected 16");
+    if (v.size() > 16 || v.size() < 12) doc_.fail(e, "holds " + std::to_string(v.size()) + " numbers, expected 16");
     Mat4 m = Mat4::identity();
     if (v.size() < 16)
       doc_.warn(e, "holds " + std::to_string(v.size()) + " numbers, expected 16; the rest taken from the identity");
@@ -189,8 +188,8 @@ class SceneReader {
         doc_.fail(inst, "sphere transform gives a degenerate sphere or one beyond the coordinate limit 1e15");
       // A sphere binds one material: the first <instance_material> in file order.
       pugi::xml_node first = inst.child("bind_material").child("technique_common").child("instance_material");
-      s.material = first ? materials_.get(doc_.resolve(first, first.attribute("target").value()))
-                         : materials_.fallback();
+      s.material =
+          first ? materials_.get(doc_.resolve(first, first.attribute("target").value())) : materials_.fallback();
       scene_.spheres.push_back(s);
     } else {
       doc_.warn(geometry, "neither a <mesh> nor a CGL sphere; skipped");

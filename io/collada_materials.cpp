@@ -37,7 +37,8 @@ void MaterialTable::read_scattering(pugi::xml_node cgl_material, Material& m) {
   std::string_view kind = cgl_material.name();
   auto warn_rough = [&] {
     pugi::xml_node r = cgl_material.child("roughness");
-    if (doc_.scalar(r, 0.0f) != 0.0f) doc_.warn(r, "roughness is ignored: rendered as a smooth dielectric (as the course does)");
+    if (doc_.scalar(r, 0.0f) != 0.0f)
+      doc_.warn(r, "roughness is ignored: rendered as a smooth dielectric (as the course does)");
   };
   if (kind == "mirror") {
     m.kind = MaterialKind::kMirror;
@@ -67,7 +68,8 @@ void MaterialTable::read_scattering(pugi::xml_node cgl_material, Material& m) {
       if (!(out->x >= 0 && out->y >= 0 && out->z >= 0)) doc_.fail(e, "negative value");
     }
     for (int c = 0; c < 3; ++c)
-      if (m.eta[c] == 0.0f && m.k[c] == 0.0f) doc_.fail(cgl_material.child("eta"), "eta and k are both zero in a channel");
+      if (m.eta[c] == 0.0f && m.k[c] == 0.0f)
+        doc_.fail(cgl_material.child("eta"), "eta and k are both zero in a channel");
     m.albedo = float3(0.0f);
   } else {
     doc_.warn(cgl_material, "CGL <" + excerpt(cgl_material.name()) +
@@ -107,8 +109,7 @@ Material MaterialTable::read(pugi::xml_node material) {
       break;
     }
   }
-  if (m.albedo.x < 0 || m.albedo.y < 0 || m.albedo.z < 0)
-    doc_.fail(effect, "negative diffuse colour");
+  if (m.albedo.x < 0 || m.albedo.y < 0 || m.albedo.z < 0) doc_.fail(effect, "negative diffuse colour");
   if (max_component(m.albedo) > 1.0f) doc_.warn(effect, "diffuse albedo above 1 reflects more light than it receives");
 
   if (pugi::xml_node cgl = cgl_technique(effect)) {

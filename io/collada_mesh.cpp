@@ -28,8 +28,8 @@ std::vector<float3> read_positions(ColladaDocument& doc, pugi::xml_node source) 
   std::vector<float> values = doc.floats(array);
   uint64_t declared = doc.count_attribute(array, "count", values.size(), kMaxCount);
   if (declared != values.size())
-    doc.fail(array, "count=\"" + std::to_string(declared) + "\" but it holds " + std::to_string(values.size()) +
-                        " numbers");
+    doc.fail(array,
+             "count=\"" + std::to_string(declared) + "\" but it holds " + std::to_string(values.size()) + " numbers");
 
   pugi::xml_node accessor = source.child("technique_common").child("accessor");
   uint64_t stride = 3, count = values.size() / 3, offset = 0;
@@ -72,8 +72,8 @@ PrimitiveLayout read_layout(ColladaDocument& doc, pugi::xml_node prim) {
   return layout;
 }
 
-void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vector<uint32_t>& sizes,
-                     uint32_t symbol, size_t vertex_count, MeshData& mesh) {
+void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vector<uint32_t>& sizes, uint32_t symbol,
+                     size_t vertex_count, MeshData& mesh) {
   PrimitiveLayout layout = read_layout(doc, prim);
   pugi::xml_node p = prim.child("p");
   if (!p) doc.fail(prim, "has no <p> index list");
@@ -87,8 +87,8 @@ void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vecto
   auto vertex = [&](uint64_t corner) {
     uint32_t v = idx[corner * layout.stride + layout.vertex_offset];
     if (v >= vertex_count)
-      doc.fail(p, "vertex index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) +
-                      " positions)");
+      doc.fail(
+          p, "vertex index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) + " positions)");
     return v;
   };
   uint64_t first = 0;
@@ -139,8 +139,8 @@ MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node) {
       if (!vcount) doc.fail(prim, "has no <vcount>");
       sizes = doc.indices(vcount, 1u << 16, "polygon size");
       if (sizes.size() != count)
-        doc.fail(vcount, "lists " + std::to_string(sizes.size()) + " polygons but count=\"" + std::to_string(count) +
-                             "\"");
+        doc.fail(vcount,
+                 "lists " + std::to_string(sizes.size()) + " polygons but count=\"" + std::to_string(count) + "\"");
     }
     append_polygons(doc, prim, sizes, symbol, mesh.positions.size(), mesh);
   }

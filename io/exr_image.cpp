@@ -123,8 +123,8 @@ void write_exr(const std::string& path, const RgbImage& image) {
   header.channels = channels;
   header.pixel_types = pixel_types;
   header.requested_pixel_types = requested;
-  header.compression_type = (image.width < 16 && image.height < 16) ? TINYEXR_COMPRESSIONTYPE_NONE
-                                                                     : TINYEXR_COMPRESSIONTYPE_ZIP;
+  header.compression_type =
+      (image.width < 16 && image.height < 16) ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
   EXRImage exr;
   InitEXRImage(&exr);
   exr.num_channels = 3;

@@ -29,8 +29,7 @@ enum class PngQuantization { kNearest, kTruncate };
 /// 8-bit value of one linear channel in the course renderer's encoding.
 uint8_t encode_channel(float linear, PngQuantization q = PngQuantization::kNearest);
 
-void write_image(const std::filesystem::path& path, const Film& film,
-                 PngQuantization q = PngQuantization::kNearest);
+void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q = PngQuantization::kNearest);
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
 /// Each pixel's variance of its mean illuminance as a grey PFM (for references).
 void write_variance_image(const std::filesystem::path& path, const Film& film);

@@ -10,7 +10,7 @@ namespace pt {
 /// The defaults are far above any CS184 scene (CBbunny: 28,588 primitives)
 /// and keep a refused file's memory use small.
 struct LoadLimits {
-  uint64_t max_instances = uint64_t(1) << 20;   ///< nodes and instance_* elements reached
+  uint64_t max_instances = uint64_t(1) << 20;  ///< nodes and instance_* elements reached
   uint64_t max_vertices = uint64_t(1) << 24;
   uint64_t max_primitives = uint64_t(1) << 24;  ///< triangles + spheres
   int max_node_depth = 256;

@@ -21,12 +21,16 @@ struct Mat4 {
   }
   static Mat4 translation(float3 t) {
     Mat4 r = identity();
-    r.m[0][3] = t.x; r.m[1][3] = t.y; r.m[2][3] = t.z;
+    r.m[0][3] = t.x;
+    r.m[1][3] = t.y;
+    r.m[2][3] = t.z;
     return r;
   }
   static Mat4 scaling(float3 s) {
     Mat4 r = identity();
-    r.m[0][0] = s.x; r.m[1][1] = s.y; r.m[2][2] = s.z;
+    r.m[0][0] = s.x;
+    r.m[1][1] = s.y;
+    r.m[2][2] = s.z;
     return r;
   }
   /// Rotation by `degrees` about `axis` (need not be unit; zero axis -> identity).
@@ -46,8 +50,7 @@ struct Mat4 {
   /// Affine: the bottom row is ignored (COLLADA node transforms are affine).
   float3 transform_point(float3 p) const { return transform_vector(p) + float3{m[0][3], m[1][3], m[2][3]}; }
   float3 transform_vector(float3 v) const {
-    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
             m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
   }
   bool is_finite() const {

@@ -22,8 +22,11 @@ const char* kind_name(MaterialKind k) {
 }
 
 json material(const Material& m) {
-  json j = {{"kind", kind_name(m.kind)}, {"albedo", vec(m.albedo)}, {"emission", vec(m.emission)},
-            {"one_sided", (m.flags & Material::kOneSided) != 0}, {"area_light", m.area_light}};
+  json j = {{"kind", kind_name(m.kind)},
+            {"albedo", vec(m.albedo)},
+            {"emission", vec(m.emission)},
+            {"one_sided", (m.flags & Material::kOneSided) != 0},
+            {"area_light", m.area_light}};
   if (m.kind == MaterialKind::kGlass || m.kind == MaterialKind::kRefraction) {
     j["ior"] = m.ior;
     j["transmittance"] = vec(m.transmittance);
@@ -52,9 +55,13 @@ std::string scene_to_json(const Scene& s, const Camera& c, int width, int height
     spheres.push_back({{"centre", vec(sp.center)}, {"radius", sp.radius}, {"material", sp.material}});
   for (const Material& m : s.materials) materials.push_back(material(m));
   for (const AreaLight& l : s.area_lights)
-    area.push_back({{"centre", vec(l.position)}, {"dim_x", vec(l.dim_x)}, {"dim_y", vec(l.dim_y)},
-                    {"direction", vec(l.direction)}, {"radiance", vec(l.radiance)}});
-  for (const PointLight& l : s.point_lights) points.push_back({{"position", vec(l.position)}, {"radiance", vec(l.radiance)}});
+    area.push_back({{"centre", vec(l.position)},
+                    {"dim_x", vec(l.dim_x)},
+                    {"dim_y", vec(l.dim_y)},
+                    {"direction", vec(l.direction)},
+                    {"radiance", vec(l.radiance)}});
+  for (const PointLight& l : s.point_lights)
+    points.push_back({{"position", vec(l.position)}, {"radiance", vec(l.radiance)}});
   for (const DirectionalLight& l : s.directional_lights)
     directional.push_back({{"to_light", vec(l.to_light)}, {"radiance", vec(l.radiance)}});
   json doc = {
@@ -62,9 +69,15 @@ std::string scene_to_json(const Scene& s, const Camera& c, int width, int height
       {"width", width},
       {"height", height},
       {"camera",
-       {{"position", vec(c.position)}, {"screen_x", vec(c.screen_x)}, {"screen_y", vec(c.screen_y)},
-        {"to_camera", vec(c.to_camera)}, {"tan_half_hfov", c.tan_half_hfov}, {"tan_half_vfov", c.tan_half_vfov},
-        {"near_clip", c.near_clip}, {"far_clip", c.far_clip}, {"lens_radius", c.lens_radius},
+       {{"position", vec(c.position)},
+        {"screen_x", vec(c.screen_x)},
+        {"screen_y", vec(c.screen_y)},
+        {"to_camera", vec(c.to_camera)},
+        {"tan_half_hfov", c.tan_half_hfov},
+        {"tan_half_vfov", c.tan_half_vfov},
+        {"near_clip", c.near_clip},
+        {"far_clip", c.far_clip},
+        {"lens_radius", c.lens_radius},
         {"focal_distance", c.focal_distance}}},
       {"positions", positions},
       {"normals", normals},

@@ -47,10 +47,8 @@ class ReferenceIntegrator {
       const SurfaceBsdf bsdf(material, sp, ray.dir, rs_);
       const ShadingPointT<float> point = shading_point(sp, bsdf.samples_lights());
       if (rules_.estimates_direct_light(vertex) && point.on) {
-        if (bsdf.lambertian())
-          L += beta * material.albedo * kInvPi * direct_light(point, ps, vertex, stats, nullptr);
-        else
-          L += beta * direct_light(point, ps, vertex, stats, &bsdf);
+        if (bsdf.lambertian()) L += beta * material.albedo * kInvPi * direct_light(point, ps, vertex, stats, nullptr);
+        else L += beta * direct_light(point, ps, vertex, stats, &bsdf);
       }
       if (!(bsdf.delta() ? rules_.traces_delta_ray(vertex) : rules_.traces_bsdf_ray(vertex))) break;
 
@@ -101,17 +99,18 @@ class ReferenceIntegrator {
                              });
       return sum;
     }
-    auto shadow = [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax, const Vec3T<float>& weight) {
+    auto shadow = [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax,
+                      const Vec3T<float>& weight) {
       if (!ok) return;
       ++stats.shadow_rays;
       if (!accel_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
         sum += to_float3(weight) * f(wi);
     };
     if (glossy)
-      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
-                           [&](const Vec3T<float>& wi, float) { return glossy->eval(wi).pdf; }, shadow);
-    else
-      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex), LambertianPdf{}, shadow);
+      sample_light_sources(
+          scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
+          [&](const Vec3T<float>& wi, float) { return glossy->eval(wi).pdf; }, shadow);
+    else sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex), LambertianPdf{}, shadow);
     return sum;
   }
 

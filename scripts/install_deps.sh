@@ -12,6 +12,7 @@ packages=(
   libopenmpi-dev openmpi-bin    # mpirun renders across ranks (optional: without it the build has no MPI)
   libembree-dev                 # optional: only the benchmark compares against it
   clang libclang-rt-14-dev      # libFuzzer and the sanitizer build
+  clang-format                  # the code style check (scripts/check_format.sh)
   python3-matplotlib            # convergence charts
 )
 sudo_cmd=""

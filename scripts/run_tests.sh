@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Second command of the README: build and run the whole test suite.
+#  0. The code style: every C++ file formatted as .clang-format says.
 #  1. Release build in build/ with CMake's default generator, Unix Makefiles
 #     (the standard recipe; a build/ made earlier keeps its generator): every
 #     instruction-set level in one binary, with Open MPI, so the mpirun tests
@@ -33,6 +34,14 @@ else
 fi
 summary=()
 failed=0
+
+# ------------------------------------------------------------------ 0. Style
+if bash scripts/check_format.sh; then
+  summary+=("clang-format: every .h and .cpp formatted as .clang-format says")
+else
+  failed=1
+  summary+=("clang-format: FAILED (bash scripts/check_format.sh --fix formats the files)")
+fi
 
 # "N tests, P passed, F failed, S skipped" of a ctest log.
 ctest_counts() {

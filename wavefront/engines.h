@@ -26,8 +26,8 @@ struct Tracing {
 };
 
 struct WavefrontOptions {
-  size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
-  bool packets = true;       ///< SIMD packets for camera rays and first-hit shadow rays
+  size_t wave_paths = 4096;      ///< paths per wave (camera samples traced together)
+  bool packets = true;           ///< SIMD packets for camera rays and first-hit shadow rays
   bool sort_by_material = true;  ///< shade from queues binned by material kind (false: every kernel over every ray)
 };
 
@@ -44,10 +44,9 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
 /// The engines of one compiled level.
 struct EngineTable {
   Isa isa;
-  RenderOutput (*wavefront)(const Scene&, const Camera&, const RenderSettings&, const Tracing&,
-                            const WavefrontOptions&, const RenderControl&, StageStats*);
-  RenderOutput (*megakernel)(const Scene&, const Camera&, const RenderSettings&, const Tracing&,
-                             const RenderControl&);
+  RenderOutput (*wavefront)(const Scene&, const Camera&, const RenderSettings&, const Tracing&, const WavefrontOptions&,
+                            const RenderControl&, StageStats*);
+  RenderOutput (*megakernel)(const Scene&, const Camera&, const RenderSettings&, const Tracing&, const RenderControl&);
 };
 
 /// The table of a level compiled into this binary (IsaError otherwise).

@@ -10,7 +10,8 @@ namespace pt::wf {
 namespace {
 
 /// Calls render(tracer) with the tracer `tracing` names.
-template <class Render> RenderOutput with_tracer(const Tracing& tracing, Render&& render) {
+template <class Render>
+RenderOutput with_tracer(const Tracing& tracing, Render&& render) {
   if (!tracing.bvh4) return render(Bvh2Tracer{*tracing.bvh2});
   if (tracing.count_tests) return render(Bvh4Tracer<true>{*tracing.bvh4});
   return render(Bvh4Tracer<false>{*tracing.bvh4});
@@ -25,7 +26,8 @@ RenderOutput wavefront(const Scene& scene, const Camera& camera, const RenderSet
 
 RenderOutput megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs, const Tracing& tracing,
                         const RenderControl& control) {
-  return with_tracer(tracing, [&](const auto& tracer) { return render_megakernel(scene, camera, rs, tracer, control); });
+  return with_tracer(tracing,
+                     [&](const auto& tracer) { return render_megakernel(scene, camera, rs, tracer, control); });
 }
 
 }  // namespace

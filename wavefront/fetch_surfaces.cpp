@@ -39,7 +39,8 @@ void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue&
     front[lane] = sp.front ? 1 : 0;
   }
   for (int v = 0; v < 3; ++v)
-    *vecs[v] = {vfloatK::load_aligned(f[3 * v]), vfloatK::load_aligned(f[3 * v + 1]), vfloatK::load_aligned(f[3 * v + 2])};
+    *vecs[v] = {vfloatK::load_aligned(f[3 * v]), vfloatK::load_aligned(f[3 * v + 1]),
+                vfloatK::load_aligned(f[3 * v + 2])};
   s.offset = vfloatK::load_aligned(f[9]);
   s.material = vintK::load_aligned(material);
   s.front = as_float_mask(vintK::load_aligned(front) != vintK(0));
@@ -63,10 +64,10 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
         v2 = gather(tris.indices, t3 + vintK(2));
   Vec3T<vfloatK> dir{vfloatK::load_aligned(&rays.dir_x[i0]), vfloatK::load_aligned(&rays.dir_y[i0]),
                      vfloatK::load_aligned(&rays.dir_z[i0])};
-  TriangleSurfaceT<vfloatK> ts = triangle_surface<vfloatK>(
-      gather3(tris.positions, v0), gather3(tris.positions, v1), gather3(tris.positions, v2),
-      gather3(tris.normals, v0), gather3(tris.normals, v1), gather3(tris.normals, v2),
-      vfloatK::load_aligned(&hits.u[i0]), vfloatK::load_aligned(&hits.v[i0]), dir);
+  TriangleSurfaceT<vfloatK> ts =
+      triangle_surface<vfloatK>(gather3(tris.positions, v0), gather3(tris.positions, v1), gather3(tris.positions, v2),
+                                gather3(tris.normals, v0), gather3(tris.normals, v1), gather3(tris.normals, v2),
+                                vfloatK::load_aligned(&hits.u[i0]), vfloatK::load_aligned(&hits.v[i0]), dir);
   s.p = ts.p;
   s.ng = ts.ng;
   s.ns = ts.ns;

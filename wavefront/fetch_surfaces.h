@@ -16,9 +16,9 @@ struct SurfaceBatch {
   Vec3T<vfloatK> p, ng, ns;  ///< ng, ns turned towards the incoming ray
   vfloatK offset;            ///< origin offset along ng
   vintK material;
-  vboolK hit;                ///< lane holds a surface (a valid ray that hit)
-  vboolK valid;              ///< lane holds a ray of the queue
-  vboolK front;              ///< the ray arrived on the side the stored normal faces
+  vboolK hit;    ///< lane holds a surface (a valid ray that hit)
+  vboolK valid;  ///< lane holds a ray of the queue
+  vboolK front;  ///< the ray arrived on the side the stored normal faces
 };
 
 /// Surfaces of rays [i0, i0 + K) of `rays` with their `hits`.

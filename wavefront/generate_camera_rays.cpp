@@ -49,12 +49,24 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
     }
     const vfloatK one(1.0f), zero(0.0f);
     store_lanes(paths, i0,
-                PathLanes{.pixel = pixel, .sample = sample,
-                          .beta_r = one, .beta_g = one, .beta_b = one, .radiance_r = zero, .radiance_g = zero,
-                          .radiance_b = zero, .bsdf_pdf = zero});
+                PathLanes{.pixel = pixel,
+                          .sample = sample,
+                          .beta_r = one,
+                          .beta_g = one,
+                          .beta_b = one,
+                          .radiance_r = zero,
+                          .radiance_g = zero,
+                          .radiance_b = zero,
+                          .bsdf_pdf = zero});
     store_lanes(rays, i0,
-                RayLanes{.org_x = o.x, .org_y = o.y, .org_z = o.z, .tmin = vfloatK(cam.near_clip), .dir_x = d.x, .dir_y = d.y,
-                         .dir_z = d.z, .tmax = vfloatK(cam.far_clip),
+                RayLanes{.org_x = o.x,
+                         .org_y = o.y,
+                         .org_z = o.z,
+                         .tmin = vfloatK(cam.near_clip),
+                         .dir_x = d.x,
+                         .dir_y = d.y,
+                         .dir_z = d.z,
+                         .tmax = vfloatK(cam.far_clip),
                          .path = xsimd::batch_cast<uint32_t>(lane_index()) + vuintK(static_cast<uint32_t>(i0))});
   }
 }

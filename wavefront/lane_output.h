@@ -24,7 +24,8 @@ struct LaneUints {
 };
 
 /// Calls f(lane) for each set bit of mask, lowest first.
-template <class F> inline void for_each_lane(uint32_t mask, F&& f) {
+template <class F>
+inline void for_each_lane(uint32_t mask, F&& f) {
   for (; mask; mask &= mask - 1) f(static_cast<size_t>(__builtin_ctz(mask)));
 }
 
@@ -32,8 +33,16 @@ template <class F> inline void for_each_lane(uint32_t mask, F&& f) {
 inline void push_shadow_lanes(uint32_t mask, ShadowQueue& q, const Vec3T<vfloatK>& org, const Vec3T<vfloatK>& dir,
                               vfloatK tmax, vuintK path, const Vec3T<vfloatK>& weight) {
   append_lanes(q, mask,
-               ShadowLanes{.org_x = org.x, .org_y = org.y, .org_z = org.z, .dir_x = dir.x, .dir_y = dir.y,
-                           .dir_z = dir.z, .tmax = tmax, .path = path, .weight_r = weight.x, .weight_g = weight.y,
+               ShadowLanes{.org_x = org.x,
+                           .org_y = org.y,
+                           .org_z = org.z,
+                           .dir_x = dir.x,
+                           .dir_y = dir.y,
+                           .dir_z = dir.z,
+                           .tmax = tmax,
+                           .path = path,
+                           .weight_r = weight.x,
+                           .weight_g = weight.y,
                            .weight_b = weight.z});
 }
 
@@ -41,8 +50,15 @@ inline void push_shadow_lanes(uint32_t mask, ShadowQueue& q, const Vec3T<vfloatK
 inline void push_ray_lanes(uint32_t mask, RayQueue& q, const Vec3T<vfloatK>& org, const Vec3T<vfloatK>& dir,
                            vuintK path) {
   append_lanes(q, mask,
-               RayLanes{.org_x = org.x, .org_y = org.y, .org_z = org.z, .tmin = vfloatK(0.0f), .dir_x = dir.x,
-                        .dir_y = dir.y, .dir_z = dir.z, .tmax = vfloatK(kInfinity), .path = path});
+               RayLanes{.org_x = org.x,
+                        .org_y = org.y,
+                        .org_z = org.z,
+                        .tmin = vfloatK(0.0f),
+                        .dir_x = dir.x,
+                        .dir_y = dir.y,
+                        .dir_z = dir.z,
+                        .tmax = vfloatK(kInfinity),
+                        .path = path});
 }
 
 }  // namespace pt::wf

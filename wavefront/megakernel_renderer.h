@@ -81,23 +81,23 @@ class MegakernelPath {
                                float3 incoming;
                                if (tracer_.intersect(ray, hit, stats.intersection_tests))
                                  incoming = emitted_radiance(scene_, surface_at(scene_, ray, hit), ray, rs_);
-                               else if (sky_visible_)
-                                 incoming = sky_radiance(scene_, ray.dir);
+                               else if (sky_visible_) incoming = sky_radiance(scene_, ray.dir);
                                L += beta_f * incoming * weight * f(wi);
                              });
       return;
     }
-    auto shadow = [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax, const Vec3T<float>& weight) {
+    auto shadow = [&](bool ok, const Vec3T<float>& org, const Vec3T<float>& wi, float tmax,
+                      const Vec3T<float>& weight) {
       if (!ok) return;
       ++stats.shadow_rays;
       if (!tracer_.occluded(Ray{to_float3(org), 0.0f, to_float3(wi), tmax}, stats.intersection_tests))
         L += beta_f * to_float3(weight) * f(wi);
     };
     if (glossy)
-      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
-                           [&](const Vec3T<float>& wi, float) { return glossy->eval(wi).pdf; }, shadow);
-    else
-      sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex), LambertianPdf{}, shadow);
+      sample_light_sources(
+          scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex),
+          [&](const Vec3T<float>& wi, float) { return glossy->eval(wi).pdf; }, shadow);
+    else sample_light_sources(scene_, rs_, point, ps, vertex, rules_.bsdf_competes(vertex), LambertianPdf{}, shadow);
   }
 
   const Scene& scene_;
@@ -108,8 +108,8 @@ class MegakernelPath {
 };
 
 template <class Tracer>
-RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs,
-                               const Tracer& tracer, const RenderControl& control = {}) {
+RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs, const Tracer& tracer,
+                               const RenderControl& control = {}) {
   auto start = std::chrono::steady_clock::now();
   const MegakernelPath<Tracer> path(scene, rs, tracer);
   Accumulation acc = initial_accumulation(rs, control);

@@ -24,9 +24,9 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
     vuintK path = vuintK::load_aligned(&candidates.path[i0]);
     vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(path), vintK(0));
     const SamplerK ps = sampler_of_paths(rs, paths, safe_path);
-    vfloatK beta_max = xsimd::max(gather(paths.beta_r.data(), safe_path),
-                                  xsimd::max(gather(paths.beta_g.data(), safe_path),
-                                             gather(paths.beta_b.data(), safe_path)));
+    vfloatK beta_max =
+        xsimd::max(gather(paths.beta_r.data(), safe_path),
+                   xsimd::max(gather(paths.beta_g.data(), safe_path), gather(paths.beta_b.data(), safe_path)));
     vfloatK p = continuation_probability(rs, beta_max);
     uint32_t survive = lane_mask(valid && ps.get1d(vertex, dims::kRoulette) < p);
     LaneFloats inv_p(vfloatK(1.0f) / p);

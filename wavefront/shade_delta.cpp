@@ -10,8 +10,8 @@
 
 namespace pt::wf {
 
-void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays,
-                 const HitQueue& hits, PathState& paths, ShadeOutputs out) {
+void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays, const HitQueue& hits,
+                 PathState& paths, ShadeOutputs out) {
   const uint32_t vertex = depth + 1;
   if (!ctx.rules.traces_delta_ray(vertex)) return;
   const RenderSettings& rs = ctx.settings;

@@ -39,12 +39,12 @@ inline vintK lane_paths(const RayQueue& rays, size_t i0, vboolK valid) {
 
 /// Lambertian surfaces; also adds the emission of emitters hit and of the
 /// sky where escaped rays count.
-void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits,
-                   PathState& paths, ShadeOutputs out);
+void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, PathState& paths,
+                   ShadeOutputs out);
 
 /// Mirror, glass or refraction (`kind`): one delta lobe, no light samples.
-void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays,
-                 const HitQueue& hits, PathState& paths, ShadeOutputs out);
+void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays, const HitQueue& hits,
+                 PathState& paths, ShadeOutputs out);
 
 /// Rough conductors: light samples weighted by the microfacet BRDF, and a
 /// Beckmann-sampled continuation.

@@ -38,17 +38,19 @@ void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& ra
 
     if (direct) {
       if (rs.direct_by_hitting()) {
-        sample_hemisphere_rays(ctx.scene, rs, point, ps, vertex, [&](vboolK ok, const V3& org, const V3& wi, vfloatK w) {
-          V3 f = eval(wi).f;
-          push_shadow_lanes(lane_mask(ok), out.hemisphere, org, wi, vfloatK(kInfinity), path_u,
-                            times(beta, {f.x * w, f.y * w, f.z * w}));
-        });
+        sample_hemisphere_rays(ctx.scene, rs, point, ps, vertex,
+                               [&](vboolK ok, const V3& org, const V3& wi, vfloatK w) {
+                                 V3 f = eval(wi).f;
+                                 push_shadow_lanes(lane_mask(ok), out.hemisphere, org, wi, vfloatK(kInfinity), path_u,
+                                                   times(beta, {f.x * w, f.y * w, f.z * w}));
+                               });
       } else {
         sample_light_sources(
             ctx.scene, rs, point, ps, vertex, ctx.rules.bsdf_competes(vertex),
             [&](const V3& wi, vfloatK) { return eval(wi).pdf; },
             [&](vboolK ok, const V3& org, const V3& wi, vfloatK tmax, const V3& weight) {
-              push_shadow_lanes(lane_mask(ok), out.shadows, org, wi, tmax, path_u, times(times(beta, weight), eval(wi).f));
+              push_shadow_lanes(lane_mask(ok), out.shadows, org, wi, tmax, path_u,
+                                times(times(beta, weight), eval(wi).f));
             });
       }
     }

@@ -15,9 +15,9 @@
 namespace pt::wf {
 
 struct ShadeOutputs {
-  ShadowQueue& shadows;      ///< occlusion rays of light sampling
-  ShadowQueue& hemisphere;   ///< closest-hit rays of hemisphere sampling (-H)
-  RayQueue& continuations;   ///< next-bounce candidates, before roulette
+  ShadowQueue& shadows;     ///< occlusion rays of light sampling
+  ShadowQueue& hemisphere;  ///< closest-hit rays of hemisphere sampling (-H)
+  RayQueue& continuations;  ///< next-bounce candidates, before roulette
 };
 
 /// `depth` = bounces the rays of `rays` have made (0: camera rays); the

@@ -16,13 +16,22 @@
 namespace pt::wf {
 
 /// The K-wide register of a stream field's type.
-template <class T> struct LaneOf;
-template <> struct LaneOf<float> { using type = vfloatK; };
-template <> struct LaneOf<uint32_t> { using type = vuintK; };
-template <class T> using lane_t = typename LaneOf<T>::type;
+template <class T>
+struct LaneOf;
+template <>
+struct LaneOf<float> {
+  using type = vfloatK;
+};
+template <>
+struct LaneOf<uint32_t> {
+  using type = vuintK;
+};
+template <class T>
+using lane_t = typename LaneOf<T>::type;
 
 /// Makes room for K more items, the most one compressed append can write.
-template <class Stream> inline void reserve_lanes(Stream& s) {
+template <class Stream>
+inline void reserve_lanes(Stream& s) {
   if (s.size + kLanes > s.capacity) s.reserve(2 * s.capacity + kLanes);
 }
 
@@ -37,22 +46,22 @@ template <class Stream> inline void reserve_lanes(Stream& s) {
 /// initialisers), and for STREAM: load_lanes(s, i) and store_lanes(s, i, l)
 /// of items [i, i + K) (i a multiple of K), and append_lanes(s, mask, l),
 /// which appends the lanes set in `mask`, in lane order.
-#define PT_SOA_LANES(LANES, STREAM, FIELDS)                                        \
-  struct LANES {                                                                   \
-    FIELDS(PT_SOA_LANE_MEMBER)                                                     \
-  };                                                                               \
-  inline LANES load_lanes(const STREAM& s, size_t i) {                             \
-    LANES l;                                                                       \
-    FIELDS(PT_SOA_LANE_LOAD)                                                       \
-    return l;                                                                      \
-  }                                                                                \
+#define PT_SOA_LANES(LANES, STREAM, FIELDS)                                                  \
+  struct LANES {                                                                             \
+    FIELDS(PT_SOA_LANE_MEMBER)                                                               \
+  };                                                                                         \
+  inline LANES load_lanes(const STREAM& s, size_t i) {                                       \
+    LANES l;                                                                                 \
+    FIELDS(PT_SOA_LANE_LOAD)                                                                 \
+    return l;                                                                                \
+  }                                                                                          \
   inline void store_lanes(STREAM& s, size_t i, const LANES& l) { FIELDS(PT_SOA_LANE_STORE) } \
-  inline void append_lanes(STREAM& s, uint32_t mask, const LANES& l) {             \
-    if (!mask) return;                                                             \
-    ::pt::wf::reserve_lanes(s);                                                    \
-    size_t at = s.size;                                                            \
-    FIELDS(PT_SOA_LANE_APPEND)                                                     \
-    s.size += static_cast<size_t>(std::popcount(mask));                            \
+  inline void append_lanes(STREAM& s, uint32_t mask, const LANES& l) {                       \
+    if (!mask) return;                                                                       \
+    ::pt::wf::reserve_lanes(s);                                                              \
+    size_t at = s.size;                                                                      \
+    FIELDS(PT_SOA_LANE_APPEND)                                                               \
+    s.size += static_cast<size_t>(std::popcount(mask));                                      \
   }
 
 namespace pt::wf {

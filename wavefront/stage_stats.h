@@ -23,10 +23,9 @@ enum class Stage : int {
   kAccumulate,
   kCount
 };
-inline constexpr const char* kStageNames[] = {"generate_camera_rays",       "intersect_closest (camera)",
-                                              "intersect_closest (bounce)", "shade_surfaces",
-                                              "trace_shadow_rays (1st hit)", "trace_shadow_rays (later)",
-                                              "russian_roulette",           "accumulate"};
+inline constexpr const char* kStageNames[] = {
+    "generate_camera_rays",        "intersect_closest (camera)", "intersect_closest (bounce)", "shade_surfaces",
+    "trace_shadow_rays (1st hit)", "trace_shadow_rays (later)",  "russian_roulette",           "accumulate"};
 
 struct StageStats {
   std::array<double, static_cast<int>(Stage::kCount)> seconds{};
@@ -42,7 +41,9 @@ struct StageStats {
   }
   StageStats& operator+=(const StageStats& o) {
     for (size_t i = 0; i < seconds.size(); ++i) seconds[i] += o.seconds[i];
-    camera_rays += o.camera_rays; bounce_rays += o.bounce_rays; shadow_rays += o.shadow_rays;
+    camera_rays += o.camera_rays;
+    bounce_rays += o.bounce_rays;
+    shadow_rays += o.shadow_rays;
     first_hit_shadow_rays += o.first_hit_shadow_rays;
     primitive_tests += o.primitive_tests;
     queue_bytes += o.queue_bytes;

@@ -11,10 +11,12 @@ namespace pt::wf {
 /// 36 bytes per path: identity (whose sampler the stages rebuild:
 /// sampler_lanes.h), throughput, radiance so far, and the pdf of the last
 /// BSDF sample (for MIS when its ray finds a light).
+// clang-format off
 #define PT_PATH_FIELDS(X)                                                         \
   X(uint32_t, pixel) X(uint32_t, sample)                                          \
   X(float, beta_r) X(float, beta_g) X(float, beta_b)                              \
   X(float, radiance_r) X(float, radiance_g) X(float, radiance_b) X(float, bsdf_pdf)
+// clang-format on
 struct PathState {
   PT_SOA_STREAM(PT_PATH_FIELDS)
   void add_radiance(uint32_t path, float r, float g, float b) {
@@ -25,14 +27,14 @@ struct PathState {
 };
 
 /// 36 bytes per ray: closest-hit query of one path.
+// clang-format off
 #define PT_RAY_FIELDS(X)                                                           \
   X(float, org_x) X(float, org_y) X(float, org_z) X(float, tmin)                   \
   X(float, dir_x) X(float, dir_y) X(float, dir_z) X(float, tmax) X(uint32_t, path)
+// clang-format on
 struct RayQueue {
   PT_SOA_STREAM(PT_RAY_FIELDS)
-  Ray ray(size_t i) const {
-    return {{org_x[i], org_y[i], org_z[i]}, tmin[i], {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]};
-  }
+  Ray ray(size_t i) const { return {{org_x[i], org_y[i], org_z[i]}, tmin[i], {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]}; }
 };
 
 /// 16 bytes per hit, parallel to a RayQueue (prim == kInvalidId: miss).
@@ -44,15 +46,15 @@ struct HitQueue {
 /// 44 bytes per shadow ray: an occlusion query and the radiance it adds to
 /// its path when nothing blocks it. Also used for hemisphere-sampling rays,
 /// where the weight multiplies whatever emission the ray finds.
+// clang-format off
 #define PT_SHADOW_FIELDS(X)                                                        \
   X(float, org_x) X(float, org_y) X(float, org_z)                                  \
   X(float, dir_x) X(float, dir_y) X(float, dir_z) X(float, tmax) X(uint32_t, path) \
   X(float, weight_r) X(float, weight_g) X(float, weight_b)
+// clang-format on
 struct ShadowQueue {
   PT_SOA_STREAM(PT_SHADOW_FIELDS)
-  Ray ray(size_t i) const {
-    return {{org_x[i], org_y[i], org_z[i]}, 0.0f, {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]};
-  }
+  Ray ray(size_t i) const { return {{org_x[i], org_y[i], org_z[i]}, 0.0f, {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]}; }
 };
 
 }  // namespace pt::wf

@@ -44,8 +44,7 @@ void trace_hemisphere_rays(const Tracer& tracer, const WaveContext& ctx, const S
     float3 incoming;
     if (tracer.intersect(ray, hit, tests))
       incoming = emitted_radiance(scene, surface_at(scene, ray, hit), ray, ctx.settings);
-    else if (ctx.sky_visible)
-      incoming = sky_radiance(scene, ray.dir);
+    else if (ctx.sky_visible) incoming = sky_radiance(scene, ray.dir);
     if (is_black(incoming)) continue;
     paths.add_radiance(rays.path[i], rays.weight_r[i] * incoming.x, rays.weight_g[i] * incoming.y,
                        rays.weight_b[i] * incoming.z);

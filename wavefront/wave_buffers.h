@@ -13,12 +13,18 @@
 namespace pt::wf {
 
 /// X(type, name, extent): a member `type name extent`.
+// clang-format off
 #define PT_WAVE_BUFFERS(X)                                                              \
   X(PathState, paths, ) X(RayQueue, rays, [2]) X(HitQueue, hits, ) X(ShadowQueue, shadows, ) \
   X(ShadowQueue, hemisphere, ) X(RayQueue, continuations, ) X(MaterialQueues, by_material, )
+// clang-format on
 
-template <class Stream> inline size_t stream_bytes(const Stream& s) { return s.bytes(); }
-template <class Stream, size_t N> inline size_t stream_bytes(const Stream (&s)[N]) {
+template <class Stream>
+inline size_t stream_bytes(const Stream& s) {
+  return s.bytes();
+}
+template <class Stream, size_t N>
+inline size_t stream_bytes(const Stream (&s)[N]) {
   size_t b = 0;
   for (const Stream& x : s) b += x.bytes();
   return b;

@@ -27,7 +27,11 @@ MaterialArrays::MaterialArrays(const Scene& s) {
     k_b.push_back(m.k.z);
   }
   if (s.materials.empty()) {  // keep gathers in bounds for material 0
-    albedo_r.push_back(0); albedo_g.push_back(0); albedo_b.push_back(0); emits.push_back(0); kind.push_back(0);
+    albedo_r.push_back(0);
+    albedo_g.push_back(0);
+    albedo_b.push_back(0);
+    emits.push_back(0);
+    kind.push_back(0);
   }
 }
 

@@ -14,8 +14,14 @@ struct BBox {
   float3 upper{-std::numeric_limits<float>::infinity()};
 
   static BBox of_point(float3 p) { return {p, p}; }
-  void expand(float3 p) { lower = pt::min(lower, p); upper = pt::max(upper, p); }
-  void expand(const BBox& b) { lower = pt::min(lower, b.lower); upper = pt::max(upper, b.upper); }
+  void expand(float3 p) {
+    lower = pt::min(lower, p);
+    upper = pt::max(upper, p);
+  }
+  void expand(const BBox& b) {
+    lower = pt::min(lower, b.lower);
+    upper = pt::max(upper, b.upper);
+  }
   bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
   float3 extent() const { return upper - lower; }
   float3 center() const { return (lower + upper) * 0.5f; }
@@ -29,6 +35,9 @@ struct BBox {
 };
 static_assert(sizeof(BBox) == 24);
 
-inline BBox merge(BBox a, const BBox& b) { a.expand(b); return a; }
+inline BBox merge(BBox a, const BBox& b) {
+  a.expand(b);
+  return a;
+}
 
 }  // namespace pt

@@ -8,9 +8,13 @@
 
 namespace pt {
 
-template <class T> struct Vec3T { T x, y, z; };
+template <class T>
+struct Vec3T {
+  T x, y, z;
+};
 
-template <class T> inline Vec3T<T> select3(lane::mask_t<T> m, const Vec3T<T>& a, const Vec3T<T>& b) {
+template <class T>
+inline Vec3T<T> select3(lane::mask_t<T> m, const Vec3T<T>& a, const Vec3T<T>& b) {
   return {lane::select(m, a.x, b.x), lane::select(m, a.y, b.y), lane::select(m, a.z, b.z)};
 }
 

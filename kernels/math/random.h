@@ -20,7 +20,8 @@ namespace pt {
 
 /// 32-bit integer hash with low bias (C. Wellons' "lowbias32"): a bijection on
 /// uint32 whose output bits each flip with probability ~0.5 per input bit.
-template <class U> inline U hash32(U x) {
+template <class U>
+inline U hash32(U x) {
   x ^= x >> 16;
   x *= U(0x7feb352du);
   x ^= x >> 15;
@@ -30,28 +31,40 @@ template <class U> inline U hash32(U x) {
 }
 
 /// Key of a pixel under a seed.
-template <class U> inline U pixel_key(uint32_t seed, U pixel) { return hash32(pixel ^ U(hash32(seed ^ 0x7f4a7c15u))); }
+template <class U>
+inline U pixel_key(uint32_t seed, U pixel) {
+  return hash32(pixel ^ U(hash32(seed ^ 0x7f4a7c15u)));
+}
 
 /// Key of a sample index (the same for every pixel; mixed with the pixel's
 /// numbers only after they are hashed).
-template <class U> inline U sample_key(U sample) { return hash32(sample ^ U(0x9e3779b9u)); }
+template <class U>
+inline U sample_key(U sample) {
+  return hash32(sample ^ U(0x9e3779b9u));
+}
 
 /// Key of one random dimension at one bounce; the same for every path.
 constexpr uint32_t dimension_key(uint32_t bounce, uint32_t dim) {
   uint32_t x = (bounce << 16) ^ dim ^ 0x85ebca6bu;
-  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
   return x;
 }
 
 /// The top 24 bits as a float in [0, 1) (never 1).
-template <class U, class F> inline F bits_to_unit(U bits) {
+template <class U, class F>
+inline F bits_to_unit(U bits) {
   U top = bits >> 8;
   if constexpr (std::is_arithmetic_v<U>) return static_cast<F>(top) * 0x1p-24f;
   else return xsimd::batch_cast<float>(xsimd::batch_cast<int32_t>(top)) * F(0x1p-24f);
 }
 
 /// The uniform number of one dimension of one path.
-template <class U, class F> inline F random_float(U pixel_key, U sample_key, uint32_t dim_key) {
+template <class U, class F>
+inline F random_float(U pixel_key, U sample_key, uint32_t dim_key) {
   return bits_to_unit<U, F>(hash32(hash32(pixel_key ^ U(dim_key)) ^ sample_key));
 }
 

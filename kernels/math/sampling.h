@@ -15,7 +15,8 @@ inline constexpr float kInvPi = 1.0f / kPi;
 inline constexpr float kInv2Pi = 0.5f / kPi;
 
 /// Uniform over the hemisphere z >= 0; pdf = 1 / (2 pi) per steradian.
-template <class T> inline Vec3T<T> sample_uniform_hemisphere(T u1, T u2) {
+template <class T>
+inline Vec3T<T> sample_uniform_hemisphere(T u1, T u2) {
   T z = u1;
   T r = lane::sqrt(lane::max(T(0.0f), T(1.0f) - z * z));
   T s, c;
@@ -24,7 +25,8 @@ template <class T> inline Vec3T<T> sample_uniform_hemisphere(T u1, T u2) {
 }
 
 /// Cosine-weighted over the hemisphere z >= 0 (Malley); pdf = z / pi.
-template <class T> inline Vec3T<T> sample_cosine_hemisphere(T u1, T u2) {
+template <class T>
+inline Vec3T<T> sample_cosine_hemisphere(T u1, T u2) {
   T r = lane::sqrt(u1);
   T s, c;
   lane::sincos_2pi(u2, s, c);
@@ -32,13 +34,13 @@ template <class T> inline Vec3T<T> sample_cosine_hemisphere(T u1, T u2) {
 }
 
 /// Uniform on the sphere; pdf = 1 / (4 pi).
-template <class T> inline Vec3T<T> sample_uniform_sphere(T u1, T u2) {
+template <class T>
+inline Vec3T<T> sample_uniform_sphere(T u1, T u2) {
   T z = T(1.0f) - T(2.0f) * u1;
   T r = lane::sqrt(lane::max(T(0.0f), T(1.0f) - z * z));
   T s, c;
   lane::sincos_2pi(u2, s, c);
   return {r * c, r * s, z};
 }
-
 
 }  // namespace pt

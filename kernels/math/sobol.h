@@ -16,7 +16,8 @@
 namespace pt {
 
 /// The bits of x in reverse order (bit 0 <-> bit 31), for any lane type.
-template <class U> inline U reverse_bits32(U x) {
+template <class U>
+inline U reverse_bits32(U x) {
   x = ((x >> 1) & U(0x55555555u)) | ((x & U(0x55555555u)) << 1);
   x = ((x >> 2) & U(0x33333333u)) | ((x & U(0x33333333u)) << 2);
   x = ((x >> 4) & U(0x0F0F0F0Fu)) | ((x & U(0x0F0F0F0Fu)) << 4);
@@ -39,7 +40,8 @@ inline vuintK reverse_bits32(vuintK x) { return reverse_bits(x); }  // byte shuf
 /// add, a seeded odd multiply, an even-constant xor-multiply): the error of
 /// points scrambled by it matches true nested uniform scrambling, which
 /// tests/kernels/test_sobol.cpp checks.
-template <class U> inline U laine_karras_permutation(U x, U seed) {
+template <class U>
+inline U laine_karras_permutation(U x, U seed) {
   x += seed;
   x *= (seed >> 16) | U(1u);
   x ^= x * U(0x05526c56u);
@@ -47,7 +49,8 @@ template <class U> inline U laine_karras_permutation(U x, U seed) {
 }
 
 /// Owen (nested uniform) scrambling of the bits of x, most significant first.
-template <class U> inline U nested_uniform_scramble(U x, U seed) {
+template <class U>
+inline U nested_uniform_scramble(U x, U seed) {
   return reverse_bits32(laine_karras_permutation(reverse_bits32(x), seed));
 }
 
@@ -55,7 +58,8 @@ template <class U> inline U nested_uniform_scramble(U x, U seed) {
 /// generator matrix is Pascal's triangle mod 2: output bit j (counted from the
 /// top) is the parity of the index bits b whose binary digits include j's
 /// (Lucas), a superset-sum transform done in five shift-and-xor steps.
-template <class U> inline U sobol_dimension1_reversed(U index) {
+template <class U>
+inline U sobol_dimension1_reversed(U index) {
   index ^= (index >> 1) & U(0x55555555u);
   index ^= (index >> 2) & U(0x33333333u);
   index ^= (index >> 4) & U(0x0F0F0F0Fu);
@@ -65,7 +69,10 @@ template <class U> inline U sobol_dimension1_reversed(U index) {
 }
 
 /// Sobol dimension 1 of `index` (dimension 0 is reverse_bits32(index)).
-template <class U> inline U sobol_dimension1(U index) { return reverse_bits32(sobol_dimension1_reversed(index)); }
+template <class U>
+inline U sobol_dimension1(U index) {
+  return reverse_bits32(sobol_dimension1_reversed(index));
+}
 
 /// The seeds of a shuffled, scrambled sequence: one for the index shuffle, one
 /// per coordinate's scramble. The scramble seeds are cheap bijections of the
@@ -73,7 +80,8 @@ template <class U> inline U sobol_dimension1(U index) { return reverse_bits32(so
 /// reads different bits of its seed for its top-level flips, and
 /// tests/kernels/test_sobol.cpp checks that the error of the scrambled points is that
 /// of independently hashed seeds.
-template <class U> struct SobolSeeds {
+template <class U>
+struct SobolSeeds {
   U shuffle, scramble_x, scramble_y;
   explicit SobolSeeds(U seed)
       : shuffle(seed), scramble_x((seed >> 16) | (seed << 16)), scramble_y(seed * U(0x9e3779b9u)) {}
@@ -83,7 +91,8 @@ template <class U> struct SobolSeeds {
 /// that maps every aligned block of 2^k indices onto an aligned block of 2^k,
 /// so prefixes of 2^k points stay nets). Takes the index with its bits
 /// already reversed (the same for every dimension of a sample).
-template <class U> inline U shuffled_index(U index_reversed, U seed) {
+template <class U>
+inline U shuffled_index(U index_reversed, U seed) {
   return reverse_bits32(laine_karras_permutation(index_reversed, seed));
 }
 
@@ -91,7 +100,8 @@ template <class U> inline U shuffled_index(U index_reversed, U seed) {
 /// given reverse_bits32(index). The scrambles of dimension 0
 /// (reverse_bits32(i)) and dimension 1 reverse the bits twice; the pairs
 /// cancel, so each coordinate costs one reversal.
-template <class U, class F> inline void owen_sobol_2d_reversed(U index_reversed, U seed, F& u1, F& u2) {
+template <class U, class F>
+inline void owen_sobol_2d_reversed(U index_reversed, U seed, F& u1, F& u2) {
   SobolSeeds<U> s(seed);
   U i = shuffled_index(index_reversed, s.shuffle);
   u1 = bits_to_unit<U, F>(reverse_bits32(laine_karras_permutation(i, s.scramble_x)));
@@ -100,14 +110,16 @@ template <class U, class F> inline void owen_sobol_2d_reversed(U index_reversed,
 
 /// Point `index` of the scrambled 1D sequence (Sobol dimension 0, the van der
 /// Corput sequence) with this seed, in [0, 1), given reverse_bits32(index).
-template <class U, class F> inline F owen_sobol_1d_reversed(U index_reversed, U seed) {
+template <class U, class F>
+inline F owen_sobol_1d_reversed(U index_reversed, U seed) {
   SobolSeeds<U> s(seed);
   U i = shuffled_index(index_reversed, s.shuffle);
   return bits_to_unit<U, F>(reverse_bits32(laine_karras_permutation(i, s.scramble_x)));
 }
 
 /// Point `index` of the scrambled 2D sequence with this seed, in [0, 1)^2.
-template <class U, class F> inline void owen_sobol_2d(U index, U seed, F& u1, F& u2) {
+template <class U, class F>
+inline void owen_sobol_2d(U index, U seed, F& u1, F& u2) {
   owen_sobol_2d_reversed<U, F>(reverse_bits32(index), seed, u1, u2);
 }
 

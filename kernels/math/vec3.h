@@ -20,10 +20,30 @@ struct float3 {
   constexpr float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
   constexpr float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
 
-  constexpr float3& operator+=(float3 b) { x += b.x; y += b.y; z += b.z; return *this; }
-  constexpr float3& operator-=(float3 b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
-  constexpr float3& operator*=(float3 b) { x *= b.x; y *= b.y; z *= b.z; return *this; }
-  constexpr float3& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+  constexpr float3& operator+=(float3 b) {
+    x += b.x;
+    y += b.y;
+    z += b.z;
+    return *this;
+  }
+  constexpr float3& operator-=(float3 b) {
+    x -= b.x;
+    y -= b.y;
+    z -= b.z;
+    return *this;
+  }
+  constexpr float3& operator*=(float3 b) {
+    x *= b.x;
+    y *= b.y;
+    z *= b.z;
+    return *this;
+  }
+  constexpr float3& operator*=(float s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
   constexpr float3& operator/=(float s) { return *this *= (1.0f / s); }
 };
 static_assert(sizeof(float3) == 12);

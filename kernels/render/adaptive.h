@@ -12,7 +12,10 @@ namespace pt {
 /// Running sums of one pixel's sample illuminances.
 struct PixelMoments {
   double s1 = 0.0, s2 = 0.0;
-  void add(double x) { s1 += x; s2 += x * x; }
+  void add(double x) {
+    s1 += x;
+    s2 += x * x;
+  }
 };
 
 /// Unbiased sample variance of the n samples, divided by n: the variance of

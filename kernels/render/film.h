@@ -14,12 +14,12 @@
 namespace pt {
 
 struct Film {
-  int width = 0, height = 0;       ///< of the film (the image's, unless cropped)
-  int x0 = 0, y0 = 0;              ///< image position of the film's top-left pixel
-  uint32_t max_samples = 0;        ///< the -s limit, for the sample-rate image
-  std::vector<float3> radiance;    ///< linear RGB mean per pixel
-  std::vector<uint32_t> samples;   ///< camera samples taken per pixel
-  std::vector<float> variance;     ///< variance of each pixel's mean illuminance (s^2 / n)
+  int width = 0, height = 0;      ///< of the film (the image's, unless cropped)
+  int x0 = 0, y0 = 0;             ///< image position of the film's top-left pixel
+  uint32_t max_samples = 0;       ///< the -s limit, for the sample-rate image
+  std::vector<float3> radiance;   ///< linear RGB mean per pixel
+  std::vector<uint32_t> samples;  ///< camera samples taken per pixel
+  std::vector<float> variance;    ///< variance of each pixel's mean illuminance (s^2 / n)
 
   Film() = default;
   Film(int w, int h, uint32_t max_spp)

@@ -14,9 +14,9 @@ namespace pt {
 /// 48 bytes.
 struct PixelAccumulator {
   double sum_r = 0, sum_g = 0, sum_b = 0;
-  PixelMoments moments;       ///< of the samples' illuminance
+  PixelMoments moments;  ///< of the samples' illuminance
   uint32_t samples = 0;
-  uint32_t converged = 0;     ///< 1 once the adaptive test stopped the pixel
+  uint32_t converged = 0;  ///< 1 once the adaptive test stopped the pixel
 
   /// Adds one sample. A non-finite sample counts as black; returns false then.
   bool add(float3 L) {

@@ -23,8 +23,12 @@ struct RenderStats {
     seconds += o.seconds;
   }
   RenderStats& operator+=(const RenderStats& o) {
-    camera_rays += o.camera_rays; bounce_rays += o.bounce_rays; shadow_rays += o.shadow_rays;
-    intersection_tests += o.intersection_tests; samples += o.samples; invalid_samples += o.invalid_samples;
+    camera_rays += o.camera_rays;
+    bounce_rays += o.bounce_rays;
+    shadow_rays += o.shadow_rays;
+    intersection_tests += o.intersection_tests;
+    samples += o.samples;
+    invalid_samples += o.invalid_samples;
     return *this;
   }
 };

@@ -102,8 +102,8 @@ bool EnvironmentMap::image_coordinates(const float3& dir, float& x, float& y, fl
   const float r = std::sqrt(dir.x * dir.x + dir.z * dir.z);
   const float len = std::sqrt(r * r + dir.y * dir.y);
   if (!(len > 0.0f) || !std::isfinite(len)) return false;
-  const float theta = std::atan2(r, dir.y);             // [0, pi]
-  const float phi = std::atan2(-dir.z, dir.x) + kPi;    // [0, 2 pi]
+  const float theta = std::atan2(r, dir.y);           // [0, pi]
+  const float phi = std::atan2(-dir.z, dir.x) + kPi;  // [0, 2 pi]
   x = std::clamp(phi * (kInv2Pi * width_), 0.0f, float(width_));
   y = std::clamp(theta * (kInvPi * height_), 0.0f, float(height_));
   sin_theta = r / len;
@@ -148,8 +148,8 @@ float EnvironmentMap::pdf(const float3& dir) const {
   float x, y, sin_theta;
   if (!image_coordinates(dir, x, y, sin_theta) || !(sin_theta > 0.0f)) return 0.0f;
   const int i = std::min(static_cast<int>(x), width_ - 1), j = std::min(static_cast<int>(y), height_ - 1);
-  const double p = double(texel_probability(i, j)) * width_ * height_ /
-                   (2.0 * std::numbers::pi * std::numbers::pi * sin_theta);
+  const double p =
+      double(texel_probability(i, j)) * width_ * height_ / (2.0 * std::numbers::pi * std::numbers::pi * sin_theta);
   return static_cast<float>(std::min(p, double(FLT_MAX)));
 }
 

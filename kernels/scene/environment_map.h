@@ -44,7 +44,8 @@ class EnvironmentMap {
   int width() const { return width_; }
   /// Bytes held: texels and both CDFs.
   size_t bytes() const {
-    return texels_.capacity() * sizeof(float3) + (marginal_cdf_.capacity() + conditional_cdf_.capacity()) * sizeof(float);
+    return texels_.capacity() * sizeof(float3) +
+           (marginal_cdf_.capacity() + conditional_cdf_.capacity()) * sizeof(float);
   }
   int height() const { return height_; }
 
@@ -83,9 +84,9 @@ class EnvironmentMap {
   float texel_probability(int i, int j) const;
 
   int width_, height_;
-  std::vector<float3> texels_;         ///< width * height, row 0 first
-  std::vector<float> marginal_cdf_;    ///< height + 1 entries, 0 ... 1
-  std::vector<float> conditional_cdf_; ///< height rows of width + 1 entries, 0 ... 1
+  std::vector<float3> texels_;          ///< width * height, row 0 first
+  std::vector<float> marginal_cdf_;     ///< height + 1 entries, 0 ... 1
+  std::vector<float> conditional_cdf_;  ///< height rows of width + 1 entries, 0 ... 1
 };
 static_assert(sizeof(EnvironmentMap::Sample) == 28);
 

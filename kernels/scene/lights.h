@@ -80,14 +80,13 @@ inline float area_light_pdf(const AreaLight& l, const float3& wi, float dist, bo
 
 /// The sky's local frame has +Y as its pole: local (x, y, z) -> world (x, z, y)
 /// keeps it right-handed up to a reflection that uniform sampling cannot see.
-template <class T> inline Vec3T<T> sample_sky_direction(T u1, T u2) {
+template <class T>
+inline Vec3T<T> sample_sky_direction(T u1, T u2) {
   Vec3T<T> h = sample_uniform_hemisphere(u1, u2);
   return {h.x, h.z, h.y};
 }
 
 /// Radiance the sky sends along a ray leaving in direction d (unit).
-inline float3 sky_radiance(const SkyLight& l, const float3& d) {
-  return d.y > 0.0f ? l.radiance : float3{};
-}
+inline float3 sky_radiance(const SkyLight& l, const float3& d) { return d.y > 0.0f ? l.radiance : float3{}; }
 
 }  // namespace pt

@@ -37,7 +37,10 @@ void add_area_light_geometry(Scene& s, uint32_t index) {
   // Wind both triangles so their geometric normal equals the emitting direction.
   bool flip = dot(cross(l.dim_x, l.dim_y), l.direction) > 0.0f;
   TriangleIndices a{base, base + 3, base + 2}, b{base, base + 2, base + 1};
-  if (flip) { std::swap(a.v1, a.v2); std::swap(b.v1, b.v2); }
+  if (flip) {
+    std::swap(a.v1, a.v2);
+    std::swap(b.v1, b.v2);
+  }
 
   Material m;
   m.albedo = float3(0.0f);

@@ -44,15 +44,15 @@ inline constexpr float kMinMicrofacetAlpha = 1e-4f;
 
 /// 80 bytes. A reflector of one kind and/or an emitter.
 struct Material {
-  float3 albedo{0.5f};       ///< diffuse albedo; reflectance of mirror and glass
+  float3 albedo{0.5f};  ///< diffuse albedo; reflectance of mirror and glass
   float3 emission{0.0f};
-  int32_t area_light = -1;   ///< area light whose geometry this is, or -1
-  uint32_t flags = 0;        ///< kOneSided: emits only where the normal points
+  int32_t area_light = -1;  ///< area light whose geometry this is, or -1
+  uint32_t flags = 0;       ///< kOneSided: emits only where the normal points
   MaterialKind kind = MaterialKind::kDiffuse;
-  float ior = 1.0f;          ///< glass, refraction: inside index / outside index
-  float alpha = 0.0f;        ///< microfacet: Beckmann roughness
-  float3 transmittance{0.0f};///< glass, refraction
-  float3 eta{0.0f}, k{0.0f}; ///< microfacet: conductor's complex index per RGB channel
+  float ior = 1.0f;            ///< glass, refraction: inside index / outside index
+  float alpha = 0.0f;          ///< microfacet: Beckmann roughness
+  float3 transmittance{0.0f};  ///< glass, refraction
+  float3 eta{0.0f}, k{0.0f};   ///< microfacet: conductor's complex index per RGB channel
 
   static constexpr uint32_t kOneSided = 1;
   bool is_emitter() const { return !is_black(emission); }
@@ -90,7 +90,7 @@ struct Scene {
   std::vector<AreaLight> area_lights;
   std::vector<PointLight> point_lights;
   std::vector<DirectionalLight> directional_lights;
-  std::optional<SkyLight> sky;  ///< set (black) when an environment map replaces it
+  std::optional<SkyLight> sky;                        ///< set (black) when an environment map replaces it
   std::shared_ptr<const EnvironmentMap> environment;  ///< -e: lights and is seen in every direction
 
   CameraDescription camera;

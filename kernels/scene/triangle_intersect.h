@@ -14,9 +14,8 @@ namespace pt {
 /// Moller-Trumbore. On a hit with tmin <= t < tmax writes t, u (weight of p1)
 /// and v (weight of p2) and returns true. Double-sided; a degenerate triangle
 /// (det == 0) never hits.
-inline bool intersect_triangle_mt(const float3& org, const float3& dir, float tmin, float tmax,
-                                  const float3& p0, const float3& p1, const float3& p2,
-                                  float& t_out, float& u_out, float& v_out) {
+inline bool intersect_triangle_mt(const float3& org, const float3& dir, float tmin, float tmax, const float3& p0,
+                                  const float3& p1, const float3& p2, float& t_out, float& u_out, float& v_out) {
   float3 e1 = p1 - p0, e2 = p2 - p0;
   float3 pvec = cross(dir, e2);
   float det = dot(e1, pvec);
@@ -30,7 +29,9 @@ inline bool intersect_triangle_mt(const float3& org, const float3& dir, float tm
   if (!(v >= 0.0f && u + v <= 1.0f)) return false;
   float t = dot(e2, qvec) * inv_det;
   if (!(t >= tmin && t < tmax)) return false;
-  t_out = t; u_out = u; v_out = v;
+  t_out = t;
+  u_out = u;
+  v_out = v;
   return true;
 }
 
@@ -55,8 +56,8 @@ struct WatertightRay {
 /// Woop et al. watertight test: no ray passes between two triangles that share
 /// an edge. Same contract as intersect_triangle_mt.
 inline bool intersect_triangle_watertight(const float3& org, const WatertightRay& w, float tmin, float tmax,
-                                          const float3& p0, const float3& p1, const float3& p2,
-                                          float& t_out, float& u_out, float& v_out) {
+                                          const float3& p0, const float3& p1, const float3& p2, float& t_out,
+                                          float& u_out, float& v_out) {
   float3 a = p0 - org, b = p1 - org, c = p2 - org;
   float ax = a[w.kx] - w.sx * a[w.kz], ay = a[w.ky] - w.sy * a[w.kz];
   float bx = b[w.kx] - w.sx * b[w.kz], by = b[w.ky] - w.sy * b[w.kz];
@@ -75,7 +76,9 @@ inline bool intersect_triangle_watertight(const float3& org, const WatertightRay
   float inv_det = 1.0f / det;
   float t = T * inv_det;
   if (!(t >= tmin && t < tmax)) return false;
-  t_out = t; u_out = V * inv_det; v_out = W * inv_det;
+  t_out = t;
+  u_out = V * inv_det;
+  v_out = W * inv_det;
   return true;
 }
 

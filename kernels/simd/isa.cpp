@@ -50,8 +50,8 @@ bool x86_supports(Isa isa) {
   asm volatile("xgetbv" : "=a"(xcr0_lo), "=d"(xcr0_hi) : "c"(0));
   uint32_t b7 = 0;
   if (__get_cpuid_count(7, 0, &a, &b, &c, &d)) b7 = b;
-  const bool v3 = (xcr0_lo & 0x6u) == 0x6u && bit(c1, 12) && bit(c1, 22) && bit(c1, 28) && bit(c1, 29) &&
-                  bit(b7, 3) && bit(b7, 5) && bit(b7, 8) && bit(ext_c, 5);  // FMA MOVBE AVX F16C BMI1 AVX2 BMI2 LZCNT
+  const bool v3 = (xcr0_lo & 0x6u) == 0x6u && bit(c1, 12) && bit(c1, 22) && bit(c1, 28) && bit(c1, 29) && bit(b7, 3) &&
+                  bit(b7, 5) && bit(b7, 8) && bit(ext_c, 5);  // FMA MOVBE AVX F16C BMI1 AVX2 BMI2 LZCNT
   if (isa == Isa::kAvx2) return v3;
   const bool v4 = v3 && (xcr0_lo & 0xE6u) == 0xE6u && bit(b7, 16) && bit(b7, 17) && bit(b7, 28) && bit(b7, 30) &&
                   bit(b7, 31);  // AVX512 F DQ CD BW VL
@@ -106,15 +106,17 @@ Isa best_isa() {
   bool found = false;
   for (Isa isa : kCompiled)
     if (cpu_supports(isa)) best = isa, found = true;
-  if (!found) throw IsaError("this CPU does not support " + std::string(isa_name(kCompiled[0])) +
-                             ", the lowest level this binary is compiled for");
+  if (!found)
+    throw IsaError("this CPU does not support " + std::string(isa_name(kCompiled[0])) +
+                   ", the lowest level this binary is compiled for");
   return best;
 }
 
 Isa resolve_isa(std::string_view name) {
   if (name == "auto") return best_isa();
   std::optional<Isa> isa = isa_from_name(name);
-  if (!isa) throw IsaError("unknown instruction set \"" + std::string(name) + "\" (one of: auto, sse4.2, avx2, avx512, neon)");
+  if (!isa)
+    throw IsaError("unknown instruction set \"" + std::string(name) + "\" (one of: auto, sse4.2, avx2, avx512, neon)");
   if (std::string why = unusable_because(*isa); !why.empty()) throw IsaError(why);
   return *isa;
 }
@@ -126,9 +128,7 @@ Isa active_isa() {
   Isa isa;
   try {
     isa = resolve_isa(env && *env ? env : "auto");
-  } catch (const IsaError& e) {
-    throw IsaError(std::string("PT_ISA: ") + e.what());
-  }
+  } catch (const IsaError& e) { throw IsaError(std::string("PT_ISA: ") + e.what()); }
   int expected = kUnset;
   g_active.compare_exchange_strong(expected, static_cast<int>(isa), std::memory_order_acq_rel);
   return static_cast<Isa>(g_active.load(std::memory_order_acquire));

@@ -18,7 +18,8 @@
 
 namespace pt {
 
-template <class T> inline Vec3T<T> local_of(const Vec3T<T>& v, const Vec3T<T>& n) {
+template <class T>
+inline Vec3T<T> local_of(const Vec3T<T>& v, const Vec3T<T>& n) {
   Vec3T<T> t, b;
   tangent_frame(n.x, n.y, n.z, t, b);
   return {v.x * t.x + v.y * t.y + v.z * t.z, v.x * b.x + v.y * b.y + v.z * b.z, v.x * n.x + v.y * n.y + v.z * n.z};
@@ -27,7 +28,8 @@ template <class T> inline Vec3T<T> local_of(const Vec3T<T>& v, const Vec3T<T>& n
 /// Unpolarised Fresnel reflectance of a smooth dielectric for light arriving
 /// at cos_i > 0 onto a medium eta times as dense (eta = eta_t / eta_i); 1
 /// under total internal reflection. cos_t receives the transmitted cosine.
-template <class T> inline T fresnel_dielectric(T cos_i, T eta, T& cos_t) {
+template <class T>
+inline T fresnel_dielectric(T cos_i, T eta, T& cos_t) {
   T sin2_t = (T(1.0f) - cos_i * cos_i) / (eta * eta);
   cos_t = lane::sqrt(lane::max(T(0.0f), T(1.0f) - sin2_t));
   T rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
@@ -37,7 +39,8 @@ template <class T> inline T fresnel_dielectric(T cos_i, T eta, T& cos_t) {
 
 /// The course's glass Fresnel: Schlick's approximation with
 /// R0 = ((1 - ior) / (1 + ior))^2 at the outgoing cosine.
-template <class T> inline T fresnel_schlick(T cos_o, T ior) {
+template <class T>
+inline T fresnel_schlick(T cos_o, T ior) {
   T r0 = (T(1.0f) - ior) / (T(1.0f) + ior);
   r0 = r0 * r0;
   T m = T(1.0f) - cos_o;
@@ -47,7 +50,8 @@ template <class T> inline T fresnel_schlick(T cos_o, T ior) {
 
 /// Fresnel reflectance of a conductor with complex index eta + i k, exact for
 /// unpolarised light (pbrt's FrConductor), at cos_i in (0, 1].
-template <class T> inline T fresnel_conductor(T cos_i, T eta, T k) {
+template <class T>
+inline T fresnel_conductor(T cos_i, T eta, T k) {
   T c2 = cos_i * cos_i, s2 = T(1.0f) - c2;
   T eta2 = eta * eta, k2 = k * k;
   T t0 = eta2 - k2 - s2;
@@ -62,7 +66,8 @@ template <class T> inline T fresnel_conductor(T cos_i, T eta, T k) {
 
 /// The course's conductor Fresnel: the common air-conductor approximation
 /// averaged over the two polarisations.
-template <class T> inline T fresnel_conductor_course(T cos_i, T eta, T k) {
+template <class T>
+inline T fresnel_conductor_course(T cos_i, T eta, T k) {
   T c2 = cos_i * cos_i, ek = eta * eta + k * k, two_eta_c = T(2.0f) * eta * cos_i;
   T rs = (ek - two_eta_c + c2) / (ek + two_eta_c + c2);
   T rp = (ek * c2 - two_eta_c + T(1.0f)) / (ek * c2 + two_eta_c + T(1.0f));
@@ -80,7 +85,10 @@ struct DeltaScatterT {
   lane::mask_t<T> ok;
 };
 
-template <class T> inline Vec3T<T> mirror_direction(const Vec3T<T>& wo) { return {lane::neg(wo.x), lane::neg(wo.y), wo.z}; }
+template <class T>
+inline Vec3T<T> mirror_direction(const Vec3T<T>& wo) {
+  return {lane::neg(wo.x), lane::neg(wo.y), wo.z};
+}
 
 /// A smooth dielectric at local wo. `front`: the ray arrived from outside
 /// (the side the stored normal faces), so it enters a medium ior times as
@@ -126,19 +134,24 @@ inline DeltaScatterT<T> scatter_dielectric(const Vec3T<T>& wo, lane::mask_t<T> f
 /// tan^2(theta_h) = tan2: exp(-tan^2 / alpha^2) / (pi alpha^2 cos^4). tan2 is
 /// passed in, not derived from c, because 1 - c^2 loses all precision for
 /// the near-normal microfacets of a small alpha (error amplified 1/alpha^2).
-template <class T> inline T beckmann_d(T c, T tan2, T alpha) {
+template <class T>
+inline T beckmann_d(T c, T tan2, T alpha) {
   T c2 = c * c, a2 = alpha * alpha;
   return lane::select(c > T(0.0f), lane::exp(lane::neg(tan2 / a2)) / (T(kPi) * a2 * c2 * c2), T(0.0f));
 }
 
 /// tan^2 of a unit vector's angle to +z, from its components (exact for
 /// vectors near +z, unlike (1 - z^2) / z^2).
-template <class T> inline T tan2_of(const Vec3T<T>& v) { return (v.x * v.x + v.y * v.y) / (v.z * v.z); }
+template <class T>
+inline T tan2_of(const Vec3T<T>& v) {
+  return (v.x * v.x + v.y * v.y) / (v.z * v.z);
+}
 
 /// Smith's Lambda for the Beckmann distribution at cos(theta) = c > 0, by
 /// the rational approximation of Walter et al. (2007) (relative error below
 /// 0.35% against the erf form).
-template <class T> inline T beckmann_lambda(T c, T alpha) {
+template <class T>
+inline T beckmann_lambda(T c, T alpha) {
   T tan_t = lane::sqrt(lane::max(T(0.0f), T(1.0f) - c * c)) / c;
   T a = T(1.0f) / (alpha * tan_t);
   T l = (T(1.0f) - T(1.259f) * a + T(0.396f) * a * a) / (T(3.535f) * a + T(2.181f) * a * a);
@@ -146,13 +159,15 @@ template <class T> inline T beckmann_lambda(T c, T alpha) {
 }
 
 /// Smith's shadowing-masking G = 1 / (1 + Lambda(wo) + Lambda(wi)).
-template <class T> inline T smith_g(T cos_o, T cos_i, T alpha) {
+template <class T>
+inline T smith_g(T cos_o, T cos_i, T alpha) {
   return T(1.0f) / (T(1.0f) + beckmann_lambda(cos_o, alpha) + beckmann_lambda(cos_i, alpha));
 }
 
 /// A Beckmann-distributed microfacet normal (all normals, pdf D(h) cos h):
 /// tan^2 theta = -alpha^2 log(1 - u1), phi = 2 pi u2.
-template <class T> inline Vec3T<T> sample_beckmann_normal(T u1, T u2, T alpha) {
+template <class T>
+inline Vec3T<T> sample_beckmann_normal(T u1, T u2, T alpha) {
   T tan2 = lane::neg(alpha * alpha * lane::log(T(1.0f) - u1));
   T c = T(1.0f) / lane::sqrt(T(1.0f) + tan2);
   T s = c * lane::sqrt(tan2);  // sin = cos tan: keeps the tiny angles of a small alpha
@@ -170,7 +185,8 @@ struct ConductorT {
 
 /// The conductor's Fresnel term per channel at cos_i, by the course's
 /// approximation or the exact formula.
-template <class T> inline Vec3T<T> conductor_fresnel(const ConductorT<T>& m, T cos_i, bool course) {
+template <class T>
+inline Vec3T<T> conductor_fresnel(const ConductorT<T>& m, T cos_i, bool course) {
   if (course)
     return {fresnel_conductor_course(cos_i, m.eta.x, m.k.x), fresnel_conductor_course(cos_i, m.eta.y, m.k.y),
             fresnel_conductor_course(cos_i, m.eta.z, m.k.z)};

@@ -32,7 +32,8 @@ struct ShadingPointT {
 /// cos / pdf of a light sample, times the power-heuristic weight against the
 /// BSDF sample (pdf `bsdf_pdf`) when `mis_count` (the light's sample count) is
 /// positive.
-template <class T> inline T light_sample_factor(T cos_s, T pdf, T mis_count, T bsdf_pdf) {
+template <class T>
+inline T light_sample_factor(T cos_s, T pdf, T mis_count, T bsdf_pdf) {
   T g = cos_s / pdf;
   return g * lane::select(mis_count > T(0.0f), power_heuristic(mis_count * pdf, bsdf_pdf), T(1.0f));
 }
@@ -40,7 +41,10 @@ template <class T> inline T light_sample_factor(T cos_s, T pdf, T mis_count, T b
 /// The Lambertian BSDF's pdf of a direction at cosine cos_s (cos / pi), as
 /// sample_light_sources' `bsdf_pdf` argument.
 struct LambertianPdf {
-  template <class T> T operator()(const Vec3T<T>&, T cos_s) const { return cos_s * T(kInvPi); }
+  template <class T>
+  T operator()(const Vec3T<T>&, T cos_s) const {
+    return cos_s * T(kInvPi);
+  }
 };
 
 /// An environment-map sample per lane (scalar lookups: the map's CDFs are
@@ -52,7 +56,8 @@ struct EnvironmentSampleT {
   lane::mask_t<T> ok;
 };
 
-template <class T> inline EnvironmentSampleT<T> sample_environment(const EnvironmentMap& env, T u1, T u2) {
+template <class T>
+inline EnvironmentSampleT<T> sample_environment(const EnvironmentMap& env, T u1, T u2) {
   if constexpr (lane::is_scalar_v<T>) {
     EnvironmentMap::Sample s = env.sample(u1, u2);
     bool ok = s.pdf > 0.0f;
@@ -83,7 +88,8 @@ struct DeltaLightSampleT {
   lane::mask_t<T> ok;
 };
 
-template <class T> inline DeltaLightSampleT<T> sample_point_light(const PointLight& l, const Vec3T<T>& p) {
+template <class T>
+inline DeltaLightSampleT<T> sample_point_light(const PointLight& l, const Vec3T<T>& p) {
   Vec3T<T> d{T(l.position.x) - p.x, T(l.position.y) - p.y, T(l.position.z) - p.z};
   T dist = lane::sqrt(dot3(d, d));
   T inv = T(1.0f) / dist;

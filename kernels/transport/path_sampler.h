@@ -15,8 +15,9 @@ namespace pt {
 
 template <class U, class F>
 struct PathSamplerT {
-  U pixel;      ///< pixel_key(seed, pixel index)
-  U sample_k;   ///< the sample's word: sample_key(sample index) for independent numbers, the index's bits reversed for Sobol
+  U pixel;     ///< pixel_key(seed, pixel index)
+  U sample_k;  ///< the sample's word: sample_key(sample index) for independent numbers, the index's bits reversed for
+               ///< Sobol
   bool sobol = false;
 
   PathSamplerT(const RenderSettings& rs, U pixel_index, U sample_index)

@@ -9,12 +9,12 @@
 namespace pt::dims {
 
 inline constexpr uint32_t kCameraBounce = 0;
-inline constexpr uint32_t kPixelJitter = 0;   ///< 2 dims at bounce 0
-inline constexpr uint32_t kLens = 2;          ///< 2 dims at bounce 0: the thin lens's point
+inline constexpr uint32_t kPixelJitter = 0;  ///< 2 dims at bounce 0
+inline constexpr uint32_t kLens = 2;         ///< 2 dims at bounce 0: the thin lens's point
 
-inline constexpr uint32_t kBsdf = 0;          ///< 2 dims: the continuation direction (glass: the first picks the lobe)
-inline constexpr uint32_t kRoulette = 2;      ///< 1 dim: Russian roulette
-inline constexpr uint32_t kDirectFirst = 3;   ///< 2 dims per direct-light sample
+inline constexpr uint32_t kBsdf = 0;         ///< 2 dims: the continuation direction (glass: the first picks the lobe)
+inline constexpr uint32_t kRoulette = 2;     ///< 1 dim: Russian roulette
+inline constexpr uint32_t kDirectFirst = 3;  ///< 2 dims per direct-light sample
 
 /// Direct-light sample `k` (numbered over all lights in scene order: area
 /// lights, point, directional, sky) uses dims (light_dim(k), light_dim(k) + 1).

@@ -58,18 +58,21 @@ inline bool traces_final_bounce(const Scene& s, const RenderSettings& rs) {
 
 /// cos / pdf of a direction found by the hit-based direct estimators: uniform
 /// hemisphere (pdf 1 / 2 pi) or cosine-weighted (pdf cos / pi).
-template <class T> inline T hit_sampling_weight(const RenderSettings& rs, T cos_theta) {
+template <class T>
+inline T hit_sampling_weight(const RenderSettings& rs, T cos_theta) {
   return rs.direct == DirectLighting::kCosine ? T(kPi) : cos_theta / T(kInv2Pi);
 }
 
 /// Power heuristic weight of a strategy with (count x pdf) `a` against `b`.
-template <class T> inline T power_heuristic(T a, T b) {
+template <class T>
+inline T power_heuristic(T a, T b) {
   T a2 = a * a, b2 = b * b;
   return lane::select(a2 > T(0.0f), a2 / (a2 + b2), T(0.0f));
 }
 
 /// Russian roulette's continuation probability for a path of throughput beta.
-template <class T> inline T continuation_probability(const RenderSettings& rs, T beta_max) {
+template <class T>
+inline T continuation_probability(const RenderSettings& rs, T beta_max) {
   return rs.roulette == RouletteMode::kThroughput ? lane::min(T(1.0f), beta_max) : T(rs.rr_continue);
 }
 
@@ -90,8 +93,8 @@ inline float3 mis_light_found_by_bsdf(const Scene& s, const RenderSettings& rs, 
   if (m.area_light < 0) return {};
   float3 L = emitted_radiance(s, sp, ray, rs);
   if (is_black(L)) return L;
-  return L * power_heuristic(bsdf_pdf, n * area_light_pdf(s.area_lights[m.area_light], ray.dir, hit->t,
-                                                          rs.cs184_light_pdf));
+  return L * power_heuristic(bsdf_pdf,
+                             n * area_light_pdf(s.area_lights[m.area_light], ray.dir, hit->t, rs.cs184_light_pdf));
 }
 
 /// Light that a ray leaving a delta lobe (mirror, glass, refraction) finds,

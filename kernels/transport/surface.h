@@ -27,11 +27,17 @@ struct SurfacePoint {
   float3 raw_ns;     ///< shading normal as stored (for normal shading)
   float offset = 0;  ///< distance to move p along +-ng to leave the surface
   uint32_t material = 0;
-  bool front = true; ///< the ray arrived on the side the stored normal faces
+  bool front = true;  ///< the ray arrived on the side the stored normal faces
 };
 
-template <class T> inline T dot3(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-template <class T> inline Vec3T<T> scale3(const Vec3T<T>& a, T s) { return {a.x * s, a.y * s, a.z * s}; }
+template <class T>
+inline T dot3(const Vec3T<T>& a, const Vec3T<T>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+inline Vec3T<T> scale3(const Vec3T<T>& a, T s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
 
 /// Lane-generic triangle part of surface_at: the same operations, in the same
 /// order, for one float or a SIMD batch.
@@ -64,7 +70,8 @@ inline TriangleSurfaceT<T> triangle_surface(const Vec3T<T>& p0, const Vec3T<T>& 
   s.offset = lane::max(lane::max(max_abs(p0), max_abs(p1)), max_abs(p2)) * T(kOffsetScale);
   s.front = dot3(dir, ng) < T(0.0f);
   s.ng = select3(s.front, ng, Vec3T<T>{lane::neg(ng.x), lane::neg(ng.y), lane::neg(ng.z)});
-  Vec3T<T> ns = select3(s.front, s.raw_ns, Vec3T<T>{lane::neg(s.raw_ns.x), lane::neg(s.raw_ns.y), lane::neg(s.raw_ns.z)});
+  Vec3T<T> ns =
+      select3(s.front, s.raw_ns, Vec3T<T>{lane::neg(s.raw_ns.x), lane::neg(s.raw_ns.y), lane::neg(s.raw_ns.z)});
   s.ns = select3(dot3(ns, s.ng) < T(0.0f), s.ng, ns);
   return s;
 }

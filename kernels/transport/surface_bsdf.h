@@ -38,9 +38,7 @@ class SurfaceBsdf {
   bool delta() const { return is_delta(m_.kind); }
   /// Whether the vertex estimates direct light: a Lambertian surface with a
   /// non-black albedo, or a rough conductor (delta lobes never can).
-  bool samples_lights() const {
-    return lambertian() ? !is_black(m_.albedo) : m_.kind == MaterialKind::kMicrofacet;
-  }
+  bool samples_lights() const { return lambertian() ? !is_black(m_.albedo) : m_.kind == MaterialKind::kMicrofacet; }
 
   /// Rough conductor only: f(wo, wi) and the pdf of sampling wi (world).
   MicrofacetEvalT<float> eval(const Vec3T<float>& wi) const {
@@ -67,11 +65,11 @@ class SurfaceBsdf {
       s.weight = to_float3(ms.weight);
       s.ok = ms.ok;
     } else {
-      DeltaScatterT<float> ds = m_.kind == MaterialKind::kMirror
-                                    ? DeltaScatterT<float>{mirror_direction(wo_), vec3t(m_.albedo), wo_.z > 0.0f}
-                                    : scatter_dielectric(wo_, sp_.front, m_.ior, vec3t(m_.albedo),
-                                                         vec3t(m_.transmittance), u1,
-                                                         m_.kind == MaterialKind::kGlass, course_);
+      DeltaScatterT<float> ds =
+          m_.kind == MaterialKind::kMirror
+              ? DeltaScatterT<float>{mirror_direction(wo_), vec3t(m_.albedo), wo_.z > 0.0f}
+              : scatter_dielectric(wo_, sp_.front, m_.ior, vec3t(m_.albedo), vec3t(m_.transmittance), u1,
+                                   m_.kind == MaterialKind::kGlass, course_);
       local = ds.wi;
       s.weight = to_float3(ds.weight);
       s.ok = ds.ok;

@@ -101,7 +101,7 @@ TEST(Bvh4Batch, UntraceableRaysInAPacketMissAndSpareTheOthers) {
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
   const size_t n = std::max<size_t>(packet_lanes(), 16);  // one packet on AVX-512, four with SSE
-  std::vector<Ray> rays = uniform_random_rays(s, n, 3);  // from inside the room
+  std::vector<Ray> rays = uniform_random_rays(s, n, 3);   // from inside the room
   rays[1].org.x = NAN;
   rays[2].dir.y = INFINITY;
   rays[3].tmin = NAN;
@@ -127,7 +127,8 @@ TEST(Bvh4Batch, SpheresAreFoundByPackets) {
   std::vector<Ray> rays;
   for (const Sphere& sphere : s.spheres)
     for (size_t i = 0; i < packet_lanes(); ++i) {  // rays from the camera side straight at the sphere
-      float3 target = sphere.center + float3{0.1f * float(i % 4) - 0.15f, 0.1f * float(i / 4) - 0.15f, 0.0f} * sphere.radius;
+      float3 target =
+          sphere.center + float3{0.1f * float(i % 4) - 0.15f, 0.1f * float(i / 4) - 0.15f, 0.0f} * sphere.radius;
       float3 from = sphere.center + float3{0.0f, 0.0f, 4.0f * sphere.radius};
       rays.push_back({from, 0.0f, normalize(target - from), kInfinity});
     }
@@ -251,7 +252,8 @@ TEST(Bvh4Batch, OcclusionPacketsMatchSingleRays) {
   if (!shared_scenes_available()) return;
   Scene bunny = load_collada_file(shared_scene("CBbunny.dae")).scene;
   SceneBvh4 bunny_bvh(bunny);
-  expect_occlusion_packets_match(bunny_bvh, shadow_rays_towards(bunny_bvh, camera_rays(bunny, 48, 36), {0.0f, 1.45f, 0.0f}),
+  expect_occlusion_packets_match(bunny_bvh,
+                                 shadow_rays_towards(bunny_bvh, camera_rays(bunny, 48, 36), {0.0f, 1.45f, 0.0f}),
                                  "CBbunny, to the light");
 }
 

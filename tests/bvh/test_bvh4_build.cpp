@@ -140,7 +140,10 @@ void expect_valid_bvh4(const Bvh4& bvh, const Scene& s, uint32_t expected_triang
   };
   walk(bvh.root, BBox{float3(-INFINITY), float3(INFINITY)});
   uint32_t total = 0;
-  for (int c : seen) { EXPECT_LE(c, 1); total += c; }
+  for (int c : seen) {
+    EXPECT_LE(c, 1);
+    total += c;
+  }
   EXPECT_EQ(total, expected_triangles);
 }
 

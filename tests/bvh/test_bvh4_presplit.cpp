@@ -55,15 +55,11 @@ TEST(Presplit, FragmentsCoverTheirTriangleInsideItsBox) {
     ASSERT_EQ(refs.centers.size(), refs.triangle.size());
     EXPECT_GE(refs.triangle.size(), n);
     EXPECT_LE(refs.triangle.size(), n + size_t(budget * n));
-    if (budget > 0.0f) {
-      EXPECT_GT(refs.triangle.size(), n + size_t(0.9 * budget * n)) << "the budget is spent";
-    }
+    if (budget > 0.0f) { EXPECT_GT(refs.triangle.size(), n + size_t(0.9 * budget * n)) << "the budget is spent"; }
     std::vector<std::vector<BBox>> fragments(n);
     for (size_t r = 0; r < refs.triangle.size(); ++r) {
       ASSERT_LT(refs.triangle[r], n);
-      if (r > 0) {
-        EXPECT_GE(refs.triangle[r], refs.triangle[r - 1]) << "fragments in triangle order";
-      }
+      if (r > 0) { EXPECT_GE(refs.triangle[r], refs.triangle[r - 1]) << "fragments in triangle order"; }
       fragments[refs.triangle[r]].push_back(refs.boxes[r]);
       EXPECT_EQ(refs.centers[r].x, refs.boxes[r].center().x);
     }
@@ -122,9 +118,7 @@ TEST(Presplit, FragmentsCoverTheirTriangleInsideItsBox) {
             }
     }
     EXPECT_EQ(uncovered, 0);
-    if (budget > 0.0f) {
-      EXPECT_GT(crossings, int(n));
-    }
+    if (budget > 0.0f) { EXPECT_GT(crossings, int(n)); }
   }
 }
 
@@ -178,9 +172,7 @@ TEST(Presplit, TreeHoldsEachTriangleOncePerLeafAndMatchesBruteForce) {
       std::set<uint32_t> in_leaf;
       for (uint32_t k = 0; k < bvh4_ref::leaf_block_count(ref); ++k)
         for (uint32_t p : bvh.leaf_blocks(ref)[k].prim)
-          if (p != kInvalidId) {
-            EXPECT_TRUE(in_leaf.insert(p).second) << "triangle " << p << " twice in one leaf";
-          }
+          if (p != kInvalidId) { EXPECT_TRUE(in_leaf.insert(p).second) << "triangle " << p << " twice in one leaf"; }
       for (uint32_t p : in_leaf) ++leaves_holding[p];
     }
   uint32_t in_leaves = 0;
@@ -241,7 +233,8 @@ TEST(Presplit, ABudgetBeyondWhatCanBeCutCutsEverySplittableTriangleTheMost) {
   // 100 flat axis-aligned triangles (never cut) and two diagonal ones: a
   // budget of 4 per triangle exceeds the 2 x 64 cuts there are to make.
   std::vector<float3> corners;
-  for (int i = 0; i < 100; ++i) corners.insert(corners.end(), {{float(i), 0, 0}, {float(i) + 1, 0, 0}, {float(i), 1, 0}});
+  for (int i = 0; i < 100; ++i)
+    corners.insert(corners.end(), {{float(i), 0, 0}, {float(i) + 1, 0, 0}, {float(i), 1, 0}});
   corners.insert(corners.end(), {{0, 0, 0}, {50, 40, 30}, {50, 40.5f, 29.5f}});
   corners.insert(corners.end(), {{100, 0, 30}, {0, 40, 0}, {0.5f, 40, 0.5f}});
   SplitReferences refs = presplit_triangles(corners, 4.0f);

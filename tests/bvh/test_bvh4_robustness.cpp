@@ -154,8 +154,8 @@ TEST(Bvh4Robustness, WatertightTestLetsNoRayOutOfAClosedSphere) {
   for (const float3& p : s.positions) rays.push_back({c, 0.0f, p - c, kInfinity});
   for (const TriangleIndices& t : s.triangles) {
     rays.push_back({c, 0.0f, (s.positions[t.v0] + s.positions[t.v1]) * 0.5f - c, kInfinity});
-    rays.push_back({c, 0.0f, (s.positions[t.v0] + s.positions[t.v1] + s.positions[t.v2]) * (1.0f / 3.0f) - c,
-                    kInfinity});
+    rays.push_back(
+        {c, 0.0f, (s.positions[t.v0] + s.positions[t.v1] + s.positions[t.v2]) * (1.0f / 3.0f) - c, kInfinity});
   }
   // Random origins inside, random directions.
   std::mt19937 rng(17);

@@ -17,7 +17,8 @@ pt::test::ProcessResult run(const std::vector<std::string>& args) {
   return pt::test::run_process(PT_TRACE_RAYS, args, std::filesystem::current_path(), 120.0);
 }
 
-template <class T> void write(const std::string& path, const std::vector<T>& data) {
+template <class T>
+void write(const std::string& path, const std::vector<T>& data) {
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(T));
 }
 
@@ -26,16 +27,16 @@ TEST(TraceRays, ReportsExactHitsAndWritesHitFile) {
   // Triangle 0 in the plane z = 1, triangle 1 in z = 3, both over x, y in [0, 1].
   write<float>(dir + "tris.bin", {0, 0, 1, 1, 0, 1, 0, 1, 1, 0, 0, 3, 1, 0, 3, 0, 1, 3});
   // ox oy oz tmin dx dy dz tmax
-  write<float>(dir + "rays.bin", {0.2f, 0.2f, 0, 0, 0, 0, 1, 1e30f,    // hits triangle 0 at t = 1
-                                  0.2f, 0.2f, 2, 0, 0, 0, 0.5f, 1e30f,  // hits triangle 1 at t = 2
-                                  5.0f, 5.0f, 0, 0, 0, 0, 1, 7.0f});    // misses
+  write<float>(dir + "rays.bin", {0.2f, 0.2f, 0, 0, 0, 0, 1,    1e30f,   // hits triangle 0 at t = 1
+                                  0.2f, 0.2f, 2, 0, 0, 0, 0.5f, 1e30f,   // hits triangle 1 at t = 2
+                                  5.0f, 5.0f, 0, 0, 0, 0, 1,    7.0f});  // misses
   pt::test::ProcessResult r = run({dir + "tris.bin", dir + "rays.bin", "--threads", "2", "--hits", dir + "hits.bin"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string& out = r.out;
   ASSERT_NE(out.find("\"threads\":1,"), std::string::npos) << out;
   ASSERT_NE(out.find("\"threads\":2,"), std::string::npos) << out;
-  for (const char* field : {"\"hits\":2,", "\"sum_t\":3,", "\"rays\":3,", "\"triangles\":2,", "\"mrays_per_s\":",
-                            "\"build_ms\":"}) {
+  for (const char* field :
+       {"\"hits\":2,", "\"sum_t\":3,", "\"rays\":3,", "\"triangles\":2,", "\"mrays_per_s\":", "\"build_ms\":"}) {
     size_t first = out.find(field), second = out.find(field, first + 1);
     EXPECT_NE(first, std::string::npos) << field << " in " << out;
     EXPECT_NE(second, std::string::npos) << field << " twice in " << out;

@@ -90,11 +90,10 @@ TEST_P(Bvh4SharedScene, MatchesBruteForce) {
   check_scene(load_collada_file(shared_scene(GetParam())).scene);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllScenes, Bvh4SharedScene, ::testing::ValuesIn(shared_scene_names()),
-                         [](const auto& info) {
-                           std::string name = info.param.substr(0, info.param.find('.'));
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(AllScenes, Bvh4SharedScene, ::testing::ValuesIn(shared_scene_names()), [](const auto& info) {
+  std::string name = info.param.substr(0, info.param.find('.'));
+  return name;
+});
 
 TEST(Bvh4BuiltInScene, MatchesBruteForce) {
   Scene scene = load_collada_file(project_scene("cornell_spheres.dae")).scene;
@@ -116,7 +115,7 @@ TEST(Bvh4Counters, CountedQueriesGiveTheSameAnswersAndCountWork) {
     EXPECT_EQ(a, b);
     EXPECT_EQ(plain.prim, counted.prim);
     EXPECT_EQ(plain.t, counted.t);
-    EXPECT_GE(c.nodes, 1u);  // the root is an inner node: its children are always tested
+    EXPECT_GE(c.nodes, 1u);                         // the root is an inner node: its children are always tested
     EXPECT_GE(c.primitives, scene.spheres.size());  // spheres are always tested
     TraversalCounters o;
     EXPECT_EQ(bvh.occluded(r), bvh.occluded(r, o));
@@ -187,12 +186,14 @@ TEST(Bvh4Levels, BlockPairsFindWhatBlocksOneAfterTheOtherFind) {
       for (size_t i = 0; i < rays.size(); ++i) {
         ASSERT_TRUE(bvh.intersect(rays[i], hits[i])) << isa_name(isa);
         EXPECT_TRUE(bvh.occluded(rays[i]));
-        if (nearer) {
-          EXPECT_GE(hits[i].prim, 4u) << isa_name(isa) << ", ray " << i;
-        }
+        if (nearer) { EXPECT_GE(hits[i].prim, 4u) << isa_name(isa) << ", ray " << i; }
         winners.insert(hits[i].prim);
       }
-      if (first.empty()) { first = hits; first_isa = isa; continue; }
+      if (first.empty()) {
+        first = hits;
+        first_isa = isa;
+        continue;
+      }
       size_t differ = 0;
       for (size_t i = 0; i < rays.size(); ++i) differ += std::memcmp(&hits[i], &first[i], sizeof(Hit)) != 0;
       EXPECT_EQ(differ, 0u) << isa_name(isa) << " against " << isa_name(first_isa)

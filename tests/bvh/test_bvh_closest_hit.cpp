@@ -25,7 +25,10 @@ float3 point_on_primitive(const Scene& s, uint32_t prim, std::mt19937& rng) {
   if (prim < s.triangles.size()) {
     const TriangleIndices& t = s.triangles[prim];
     float a = u01(rng), b = u01(rng);
-    if (a + b > 1.0f) { a = 1.0f - a; b = 1.0f - b; }
+    if (a + b > 1.0f) {
+      a = 1.0f - a;
+      b = 1.0f - b;
+    }
     return s.positions[t.v0] * (1 - a - b) + s.positions[t.v1] * a + s.positions[t.v2] * b;
   }
   const Sphere& sp = s.spheres[prim - s.triangles.size()];
@@ -94,15 +97,15 @@ int expect_bvh_equals_brute_force(const Scene& s, uint32_t leaf_size, const std:
     bool found_b = bvh.intersect(r, hb, tests), found_f = brute[i].found;
     bool same = found_b == found_f;
     if (same && found_f) {
-      same = hb.prim == hf.prim ? (hb.t == hf.t && hb.u == hf.u && hb.v == hf.v)
-                                : std::fabs(hb.t - hf.t) <= 1e-6f * hf.t;
+      same =
+          hb.prim == hf.prim ? (hb.t == hf.t && hb.u == hf.u && hb.v == hf.v) : std::fabs(hb.t - hf.t) <= 1e-6f * hf.t;
       ++hits;
     }
     if (same) same = bvh.occluded(r, tests) == found_f;
     if (!same) {
       ++failures;
-      ADD_FAILURE() << "leaf size " << leaf_size << ", ray " << i << ": bvh " << found_b << " prim " << hb.prim
-                    << " t " << hb.t << " vs brute force " << found_f << " prim " << hf.prim << " t " << hf.t;
+      ADD_FAILURE() << "leaf size " << leaf_size << ", ray " << i << ": bvh " << found_b << " prim " << hb.prim << " t "
+                    << hb.t << " vs brute force " << found_f << " prim " << hf.prim << " t " << hf.t;
     }
   }
   return hits;

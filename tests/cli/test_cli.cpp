@@ -66,12 +66,12 @@ const std::vector<BadFlags> kBadFlags = {
     {{"-r", "100000", "600"}, "error: -r: width must be an integer from 1 to 16384, got \"100000\""},
     {{"-r", "16384", "16384"}, "error: -r: 16384 x 16384 is more than 134217728 pixels"},
     {{"-r", "800"}, "error: -r: needs 2 values (W H), got 1"},
-    {{"-a", "32", "-0.1"},
-     "error: -a: tolerance must be a number >= 0 (0 turns adaptive sampling off), got \"-0.1\""},
+    {{"-a", "32", "-0.1"}, "error: -a: tolerance must be a number >= 0 (0 turns adaptive sampling off), got \"-0.1\""},
     {{"-a", "32", "nan"}, "error: -a: tolerance must be a number >= 0 (0 turns adaptive sampling off), got \"nan\""},
     {{"-a", "0", "0.05"}, "error: -a: batch size must be an integer from 1 to 16777216, got \"0\""},
     {{"-p", "0", "0", "900", "10"}, "error: -p: region 0 0 900 10 is not inside the 800x600 image"},
-    {{"-r", "100", "100", "-p", "50", "50", "51", "10"}, "error: -p: region 50 50 51 10 is not inside the 100x100 image"},
+    {{"-r", "100", "100", "-p", "50", "50", "51", "10"},
+     "error: -p: region 50 50 51 10 is not inside the 100x100 image"},
     {{"-p", "-1", "0", "5", "5"}, "error: -p: region x must be an integer from 0 to 16384, got \"-1\""},
     {{"-p", "0", "0", "0", "5"}, "error: -p: region width must be an integer from 1 to 16384, got \"0\""},
     {{"-p", "1", "2", "3"}, "error: -p: needs 4 values (X Y DX DY), got 3"},
@@ -139,7 +139,9 @@ TEST(CameraFile, ThatDoesNotParseIsOneLineNamingTheFileAndField) {
   ASSERT_FALSE(good.empty());
   std::string unit_broken = good;
   unit_broken.replace(unit_broken.find("\n1 0 0\n"), 7, "\n2 0 0\n");  // first c2w row: column x no longer unit
-  struct Case { std::string name, text, message; };
+  struct Case {
+    std::string name, text, message;
+  };
   for (const Case& c : {Case{"garbage.txt", "hello world", "camera file field hFov is not a finite number: \"hello\""},
                         Case{"short.txt", "50 35 1.33 0.01", "camera file ends before fClip"},
                         Case{"nan.txt", "nan 35 1 0 1", "camera file field hFov is not a finite number: \"nan\""},
@@ -189,8 +191,8 @@ TEST(ThinLens, ApertureZeroIsThePinholeBitForBit) {
 
 TEST(ThinLens, TheCameraFileCarriesTheLensAndIsHonoured) {
   test::ScratchDir dir;
-  test::ProcessResult r =
-      run(dir, {"-q", "-r", "24", "18", "-s", "4", "-b", "0.15", "-d", "3.5", "-f", "a.png", "--write-camera", "cam.txt"});
+  test::ProcessResult r = run(
+      dir, {"-q", "-r", "24", "18", "-s", "4", "-b", "0.15", "-d", "3.5", "-f", "a.png", "--write-camera", "cam.txt"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::string cam = test::file_bytes(dir / "cam.txt");
   std::istringstream last(cam.substr(cam.find_last_of('\n', cam.size() - 2) + 1));
@@ -234,9 +236,13 @@ TEST(UnwritableOutput, IsReportedBeforeRenderingStarts) {
   dir.write("a_file", "x");
   std::filesystem::create_directory(dir / "a_dir");
   std::vector<std::string> before = dir.entries();
-  struct Case { std::vector<std::string> args; std::string message; };
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
   for (const Case& c :
-       {Case{{"-f", "no/such/dir/out.png"}, "error: no/such/dir/out.png: cannot write output here: No such file or directory"},
+       {Case{{"-f", "no/such/dir/out.png"},
+             "error: no/such/dir/out.png: cannot write output here: No such file or directory"},
         Case{{"-f", "a_file/out.png"}, "error: a_file/out.png: cannot write output here: Not a directory"},
         Case{{"-f", "a_dir"}, "error: a_dir: output path is a directory"},
         Case{{"-f", "out.png", "--write-camera", "no/such/cam.txt"},
@@ -255,7 +261,8 @@ TEST(UnwritableOutput, ReadOnlyDirectory) {
   std::filesystem::permissions(dir / "ro", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
   std::vector<std::string> args = kEndlessRender;
   args.insert(args.end(), {"-f", "ro/out.png"});
-  expect_refused(dir, dir.entries(), run(dir, args), 1, "error: ro/out.png: cannot write output here: Permission denied");
+  expect_refused(dir, dir.entries(), run(dir, args), 1,
+                 "error: ro/out.png: cannot write output here: Permission denied");
 }
 
 TEST(ReferenceImage, WhoseHeaderClaimsMoreThanTheFileHoldsIsRefusedWithoutAllocatingIt) {
@@ -309,7 +316,8 @@ TEST(Flags, EveryLevelTheCpuRunsRendersAndIsNamedInTheReport) {
 
 TEST(Flags, ResolutionRegionAndDecimalSamplesTakeEffect) {
   test::ScratchDir dir;
-  test::ProcessResult r = run(dir, {"-r", "8", "6", "-p", "2", "1", "3", "2", "-s", "016", "-a", "32", "0", "-f", "out.pfm"});
+  test::ProcessResult r =
+      run(dir, {"-r", "8", "6", "-p", "2", "1", "3", "2", "-s", "016", "-a", "32", "0", "-f", "out.pfm"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("; 96 samples"), std::string::npos) << r.out;  // 3 x 2 pixels x 16 (decimal, not octal 14)
   int w = 0, h = 0;
@@ -350,13 +358,15 @@ TEST(Flags, DefaultsAndTheCourseDefaultsOfCs184Compat) {
   test::ScratchDir dir;
   const std::string defaults = render_pfm(dir, "default", {});
   EXPECT_FALSE(std::filesystem::exists(dir / "default_rate.png"));
-  EXPECT_EQ(defaults, render_pfm(dir, "explicit", {"--sampler", "sobol", "--direct", "mis", "--rr", "0.8", "--rr-mode",
-                                                    "fixed", "-a", "32", "0"}));
+  EXPECT_EQ(defaults, render_pfm(dir, "explicit",
+                                 {"--sampler", "sobol", "--direct", "mis", "--rr", "0.8", "--rr-mode", "fixed", "-a",
+                                  "32", "0"}));
   EXPECT_NE(defaults, render_pfm(dir, "light", {"--direct", "light"}));
   const std::string course = render_pfm(dir, "course", {"--cs184-compat"});
   EXPECT_TRUE(std::filesystem::exists(dir / "course_rate.png"));
-  EXPECT_EQ(course, render_pfm(dir, "course_explicit", {"--cs184-compat", "--sampler", "independent", "--direct",
-                                                        "light", "-a", "32", "0.05", "--rr", "0.65"}));
+  EXPECT_EQ(course, render_pfm(dir, "course_explicit",
+                               {"--cs184-compat", "--sampler", "independent", "--direct", "light", "-a", "32", "0.05",
+                                "--rr", "0.65"}));
   EXPECT_NE(course, render_pfm(dir, "course_sobol", {"--cs184-compat", "--sampler", "sobol"}));
 }
 
@@ -391,15 +401,15 @@ std::vector<std::string> csv_column(const std::filesystem::path& p, int column) 
 TEST(Convergence, RestartingEachCountGivesTheSameErrors) {
   test::ScratchDir dir;
   ASSERT_EQ(run(dir, {"-r", "16", "12", "-s", "64", "-m", "3", "-q", "-f", "ref.pfm"}).exit_code, 0);
-  const std::vector<std::string> common = {"-r", "16", "12", "-s", "8", "-m", "3", "-q", "--seed", "5",
-                                           "--reference", "ref.pfm"};
+  const std::vector<std::string> common = {"-r", "16", "12",     "-s", "8",           "-m",
+                                           "3",  "-q", "--seed", "5",  "--reference", "ref.pfm"};
   std::vector<std::string> continued = common, restarted = common;
   continued.insert(continued.end(), {"--convergence-csv", "continued.csv"});
   restarted.insert(restarted.end(), {"--convergence-csv", "restarted.csv", "--convergence-restart"});
   ASSERT_EQ(run(dir, continued).exit_code, 0);
   ASSERT_EQ(run(dir, restarted).exit_code, 0);
   EXPECT_EQ(csv_column(dir / "continued.csv", 1), (std::vector<std::string>{"1", "2", "4", "8"}));
-  EXPECT_EQ(csv_column(dir / "continued.csv", 4), csv_column(dir / "restarted.csv", 4));  // rmse
+  EXPECT_EQ(csv_column(dir / "continued.csv", 4), csv_column(dir / "restarted.csv", 4));                // rmse
   EXPECT_EQ(csv_column(dir / "continued.csv", 3).back(), csv_column(dir / "restarted.csv", 3).back());  // rays at 8
   test::ProcessResult r = run(dir, {"--convergence-restart"});
   EXPECT_EQ(r.exit_code, 2);

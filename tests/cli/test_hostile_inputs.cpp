@@ -27,8 +27,8 @@ constexpr size_t kMemoryLimit = size_t(1) << 30;
 
 std::string collada(const std::string& libraries, const std::string& nodes, const std::string& up = "Y_UP") {
   return "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
-         "version=\"1.4.1\">\n<asset><up_axis>" + up + "</up_axis></asset>\n" + libraries +
-         "\n<library_visual_scenes><visual_scene id=\"s\">\n" + nodes +
+         "version=\"1.4.1\">\n<asset><up_axis>" +
+         up + "</up_axis></asset>\n" + libraries + "\n<library_visual_scenes><visual_scene id=\"s\">\n" + nodes +
          "\n</visual_scene></library_visual_scenes>\n<scene><instance_visual_scene url=\"#s\"/></scene>\n"
          "</COLLADA>\n";
 }
@@ -80,7 +80,8 @@ std::string sphere_file(const std::string& radius) {
 std::string effect_file(const std::string& effect_body) {
   return collada(kTriangleGeometry + "<library_effects><effect id=\"e\">" + effect_body +
                      "</effect></library_effects><library_materials><material id=\"m\"><instance_effect url=\"#e\"/>"
-                     "</material></library_materials>" + light_library("<ambient><color>1 1 1</color></ambient>"),
+                     "</material></library_materials>" +
+                     light_library("<ambient><color>1 1 1</color></ambient>"),
                  "<node><instance_geometry url=\"#tri\"><bind_material><technique_common><instance_material "
                  "symbol=\"x\" target=\"#m\"/></technique_common></bind_material></instance_geometry></node>"
                  "<node><instance_light url=\"#l\"/></node>");
@@ -98,7 +99,8 @@ std::string instancing_explosion(int levels) {
   std::string lib = "<library_nodes><node id=\"n0\"><instance_geometry url=\"#tri\"/></node>";
   for (int i = 1; i <= levels; ++i)
     lib += "<node id=\"n" + std::to_string(i) + "\"><instance_node url=\"#n" + std::to_string(i - 1) +
-           "\"/><node><translate>1 0 0</translate><instance_node url=\"#n" + std::to_string(i - 1) + "\"/></node></node>";
+           "\"/><node><translate>1 0 0</translate><instance_node url=\"#n" + std::to_string(i - 1) +
+           "\"/></node></node>";
   return collada(kTriangleGeometry + lib + "</library_nodes>",
                  "<node><instance_node url=\"#n" + std::to_string(levels) + "\"/></node>");
 }
@@ -120,8 +122,12 @@ struct HostileFile {
 
 std::vector<HostileFile> structure_cases() {
   return {
-      {"truncated_xml", [] { std::string s = good_mesh(); return s.substr(0, s.size() / 2); }, Outcome::kError, "",
-       "malformed XML"},
+      {"truncated_xml",
+       [] {
+         std::string s = good_mesh();
+         return s.substr(0, s.size() / 2);
+       },
+       Outcome::kError, "", "malformed XML"},
       {"empty_file", [] { return std::string(); }, Outcome::kError, "", "malformed XML"},
       {"binary_garbage", [] { return std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16); }, Outcome::kError, "",
        "malformed XML"},
@@ -129,25 +135,37 @@ std::vector<HostileFile> structure_cases() {
        "", "root element is <scene>, expected <COLLADA>"},
       {"missing_float_array", [] { return mesh_file("", kTriangle); }, Outcome::kError, "<source id=\"p\">",
        "has no <float_array>"},
-      {"missing_p", [] { return mesh_file(kArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v"
-          offset="0"/></triangles>)"); }, Outcome::kError, "<triangles>", "has no <p> index list"},
+      {"missing_p",
+       [] {
+         return mesh_file(kArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v"
+          offset="0"/></triangles>)");
+       },
+       Outcome::kError, "<triangles>", "has no <p> index list"},
       {"dangling_reference", [] { return collada("", "<node><instance_geometry url=\"#nothing\"/></node>"); },
        Outcome::kError, "<instance_geometry url=\"#nothing\">", "which no element defines"},
       {"duplicate_id", [] { return collada(kTriangleGeometry, "<node id=\"tri\"/>"); }, Outcome::kError,
        "<node id=\"tri\">", "is already defined on line"},
-      {"node_cycle", [] { return collada(R"(<library_nodes><node id="loop"><node><instance_node url="#loop"/>
-          </node></node></library_nodes>)", "<node><instance_node url=\"#loop\"/></node>"); }, Outcome::kError,
-       "<node id=\"loop\">", "node instances itself (a cycle)"},
+      {"node_cycle",
+       [] {
+         return collada(R"(<library_nodes><node id="loop"><node><instance_node url="#loop"/>
+          </node></node></library_nodes>)",
+                        "<node><instance_node url=\"#loop\"/></node>");
+       },
+       Outcome::kError, "<node id=\"loop\">", "node instances itself (a cycle)"},
       {"deep_node_nesting", [] { return collada(kTriangleGeometry, nested("<node>", "</node>", 5000)); },
        Outcome::kError, "<node>", "nodes nest deeper than 256 levels"},
       {"instancing_explosion_2^40", [] { return instancing_explosion(40); }, Outcome::kError, "<node>",
        "the scene expands to more than"},
-      {"id_with_newline_and_escape", [] { return collada("", "<node><instance_geometry url=\"#a&#10;b&#27;[31m\"/>"
-          "</node>"); }, Outcome::kError, "<instance_geometry url=\"#a\\x0ab\\x1b[31m\">",
-       "which no element defines"},
-      {"megabyte_attribute", [] { return collada("", "<node><instance_geometry url=\"#" + std::string(1 << 20, 'x') +
-          "\"/></node>"); }, Outcome::kError, "<instance_geometry url=\"#xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...\">",
-       "which no element defines"},
+      {"id_with_newline_and_escape",
+       [] {
+         return collada("",
+                        "<node><instance_geometry url=\"#a&#10;b&#27;[31m\"/>"
+                        "</node>");
+       },
+       Outcome::kError, "<instance_geometry url=\"#a\\x0ab\\x1b[31m\">", "which no element defines"},
+      {"megabyte_attribute",
+       [] { return collada("", "<node><instance_geometry url=\"#" + std::string(1 << 20, 'x') + "\"/></node>"); },
+       Outcome::kError, "<instance_geometry url=\"#xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...\">", "which no element defines"},
   };
 }
 
@@ -157,20 +175,27 @@ std::vector<HostileFile> count_and_index_cases() {
        "vertex index 3 is out of range (3 positions)"},
       {"negative_index", [] { return mesh_file(kArray, triangles("0 -1 2")); }, Outcome::kError, "<p>",
        "negative index \"-1\""},
-      {"index_beyond_uint32", [] { return mesh_file(kArray, triangles("0 1 99999999999999999999")); },
-       Outcome::kError, "<p>", "index \"99999999999999999999\" is out of range"},
+      {"index_beyond_uint32", [] { return mesh_file(kArray, triangles("0 1 99999999999999999999")); }, Outcome::kError,
+       "<p>", "index \"99999999999999999999\" is out of range"},
       {"float_array_count_lies", [] { return mesh_file(array_of("0 0 0 1 0 0 0 1 0", 12), kTriangle); },
        Outcome::kError, "<float_array id=\"a\">", "count=\"12\" but it holds 9 numbers"},
-      {"triangle_count_lies", [] { return mesh_file(kArray, triangles("0 1 2", "2")); }, Outcome::kError,
-       "<triangles>", "count=\"2\" needs 6 indices but <p> holds 3"},
+      {"triangle_count_lies", [] { return mesh_file(kArray, triangles("0 1 2", "2")); }, Outcome::kError, "<triangles>",
+       "count=\"2\" needs 6 indices but <p> holds 3"},
       {"absurd_triangle_count", [] { return mesh_file(kArray, triangles("0 1 2", "999999999")); }, Outcome::kError,
        "<triangles>", "count=\"999999999\" needs 2999999997 indices"},
-      {"absurd_accessor_count", [] { return mesh_file(kArray + R"(<technique_common><accessor source="#a"
-          count="4000000000" stride="3"/></technique_common>)", kTriangle); }, Outcome::kError, "<accessor source=\"#a\">",
-       "count=\"4000000000\" is larger than the data it describes"},
-      {"absurd_polygon_size", [] { return mesh_file(kArray, R"(<polylist count="1"><input semantic="VERTEX"
-          source="#v" offset="0"/><vcount>4000000000</vcount><p>0 1 2</p></polylist>)"); }, Outcome::kError,
-       "<vcount>", "polygon size 4000000000 is out of range"},
+      {"absurd_accessor_count",
+       [] {
+         return mesh_file(kArray + R"(<technique_common><accessor source="#a"
+          count="4000000000" stride="3"/></technique_common>)",
+                          kTriangle);
+       },
+       Outcome::kError, "<accessor source=\"#a\">", "count=\"4000000000\" is larger than the data it describes"},
+      {"absurd_polygon_size",
+       [] {
+         return mesh_file(kArray, R"(<polylist count="1"><input semantic="VERTEX"
+          source="#v" offset="0"/><vcount>4000000000</vcount><p>0 1 2</p></polylist>)");
+       },
+       Outcome::kError, "<vcount>", "polygon size 4000000000 is out of range"},
       {"count_with_40_digits", [] { return mesh_file(kArray, triangles("0 1 2", std::string(40, '9'))); },
        Outcome::kError, "<triangles>", "is larger than the data it describes"},
   };
@@ -180,49 +205,88 @@ std::vector<HostileFile> value_cases() {
   return {
       {"nan_position", [] { return mesh_file(array_of("0 0 0 nan 0 0 0 1 0"), kTriangle); }, Outcome::kError,
        "<float_array id=\"a\">", "non-finite number \"nan\""},
-      {"infinite_position", [] { return mesh_file(array_of("0 0 0 1 0 0 0 -inf 0"), kTriangle); },
-       Outcome::kError, "<float_array id=\"a\">", "non-finite number \"-inf\""},
-      {"position_beyond_float", [] { return mesh_file(array_of("0 0 0 1e39 0 0 0 1 0"), kTriangle); },
-       Outcome::kError, "<float_array id=\"a\">", "number \"1e39\" is out of float range"},
+      {"infinite_position", [] { return mesh_file(array_of("0 0 0 1 0 0 0 -inf 0"), kTriangle); }, Outcome::kError,
+       "<float_array id=\"a\">", "non-finite number \"-inf\""},
+      {"position_beyond_float", [] { return mesh_file(array_of("0 0 0 1e39 0 0 0 1 0"), kTriangle); }, Outcome::kError,
+       "<float_array id=\"a\">", "number \"1e39\" is out of float range"},
       {"position_beyond_coordinate_limit", [] { return mesh_file(array_of("0 0 0 1e30 0 0 0 1 0"), kTriangle); },
        Outcome::kError, "<instance_geometry url=\"#g\">", "exceeds the coordinate limit 1e15"},
-      {"number_of_a_million_digits", [] { return mesh_file(array_of("0 0 0 1" + std::string(1000000, '0') +
-          " 0 0 0 1 0"), kTriangle); }, Outcome::kError, "<float_array id=\"a\">", "is out of float range"},
+      {"number_of_a_million_digits",
+       [] { return mesh_file(array_of("0 0 0 1" + std::string(1000000, '0') + " 0 0 0 1 0"), kTriangle); },
+       Outcome::kError, "<float_array id=\"a\">", "is out of float range"},
       {"nan_light_colour", [] { return lit_triangle(light_library("<point><color>1 NaN 1</color></point>")); },
        Outcome::kError, "<color>", "non-finite number \"NaN\""},
-      {"infinite_diffuse_colour", [] { return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
-          <color>inf 0 0 1</color></diffuse></lambert></technique></profile_COMMON>)"); }, Outcome::kError,
-       "<color>", "non-finite number \"inf\""},
-      {"negative_ior", [] { return effect_file(R"(<extra><technique profile="CGL"><glass><ior>-1.5</ior></glass>
-          </technique></extra>)"); }, Outcome::kError, "<ior>", "index of refraction must be in (0, 100]"},
-      {"nan_transmittance", [] { return effect_file(R"(<extra><technique profile="CGL"><refraction><transmittance>nan 1 1
-          </transmittance><ior>1.3</ior></refraction></technique></extra>)"); }, Outcome::kError, "<transmittance>",
-       "non-finite"},
-      {"zero_microfacet_alpha", [] { return effect_file(R"(<extra><technique profile="CGL"><microfacet><alpha>0</alpha>
-          <eta>1 1 1</eta><k>3 3 3</k></microfacet></technique></extra>)"); }, Outcome::kError, "<alpha>",
-       "alpha must be in (0, 10]"},
-      {"microfacet_without_k", [] { return effect_file(R"(<extra><technique profile="CGL"><microfacet><alpha>0.1</alpha>
-          <eta>1 1 1</eta></microfacet></technique></extra>)"); }, Outcome::kError, "<microfacet>", "has no <k>"},
-      {"negative_emission", [] { return effect_file(R"(<extra><technique profile="CGL"><emission><radiance>-1 2 2
-          </radiance></emission></technique></extra>)"); }, Outcome::kError, "<radiance>", "negative radiance"},
-      {"nan_matrix", [] { return collada(kTriangleGeometry, "<node><matrix>1 0 0 0 0 nan 0 0 0 0 1 0 0 0 0 1"
-          "</matrix><instance_geometry url=\"#tri\"/></node>"); }, Outcome::kError, "<matrix>", "non-finite number"},
-      {"overflowing_transforms", [] { return collada(kTriangleGeometry, nested("<node><scale>1e30 1e30 1e30</scale>",
-          "</node>", 3, "<instance_geometry url=\"#tri\"/>")); }, Outcome::kError, "<instance_geometry url=\"#tri\">",
-       "exceeds the coordinate limit 1e15"},
+      {"infinite_diffuse_colour",
+       [] {
+         return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
+          <color>inf 0 0 1</color></diffuse></lambert></technique></profile_COMMON>)");
+       },
+       Outcome::kError, "<color>", "non-finite number \"inf\""},
+      {"negative_ior",
+       [] {
+         return effect_file(R"(<extra><technique profile="CGL"><glass><ior>-1.5</ior></glass>
+          </technique></extra>)");
+       },
+       Outcome::kError, "<ior>", "index of refraction must be in (0, 100]"},
+      {"nan_transmittance",
+       [] {
+         return effect_file(R"(<extra><technique profile="CGL"><refraction><transmittance>nan 1 1
+          </transmittance><ior>1.3</ior></refraction></technique></extra>)");
+       },
+       Outcome::kError, "<transmittance>", "non-finite"},
+      {"zero_microfacet_alpha",
+       [] {
+         return effect_file(R"(<extra><technique profile="CGL"><microfacet><alpha>0</alpha>
+          <eta>1 1 1</eta><k>3 3 3</k></microfacet></technique></extra>)");
+       },
+       Outcome::kError, "<alpha>", "alpha must be in (0, 10]"},
+      {"microfacet_without_k",
+       [] {
+         return effect_file(R"(<extra><technique profile="CGL"><microfacet><alpha>0.1</alpha>
+          <eta>1 1 1</eta></microfacet></technique></extra>)");
+       },
+       Outcome::kError, "<microfacet>", "has no <k>"},
+      {"negative_emission",
+       [] {
+         return effect_file(R"(<extra><technique profile="CGL"><emission><radiance>-1 2 2
+          </radiance></emission></technique></extra>)");
+       },
+       Outcome::kError, "<radiance>", "negative radiance"},
+      {"nan_matrix",
+       [] {
+         return collada(kTriangleGeometry,
+                        "<node><matrix>1 0 0 0 0 nan 0 0 0 0 1 0 0 0 0 1"
+                        "</matrix><instance_geometry url=\"#tri\"/></node>");
+       },
+       Outcome::kError, "<matrix>", "non-finite number"},
+      {"overflowing_transforms",
+       [] {
+         return collada(kTriangleGeometry, nested("<node><scale>1e30 1e30 1e30</scale>", "</node>", 3,
+                                                  "<instance_geometry url=\"#tri\"/>"));
+       },
+       Outcome::kError, "<instance_geometry url=\"#tri\">", "exceeds the coordinate limit 1e15"},
       {"zero_sphere_radius", [] { return sphere_file("0"); }, Outcome::kError, "<radius>",
        "sphere radius must be positive"},
       {"negative_sphere_radius", [] { return sphere_file("-2"); }, Outcome::kError, "<radius>",
        "sphere radius must be positive"},
-      {"zero_area_light", [] { return lit_triangle(light_library("", "<area><color>1 1 1</color></area>"),
-          "<scale>0 1 1</scale>"); }, Outcome::kError, "<area>", "zero area or a degenerate transform"},
-      {"collinear_area_light", [] { return lit_triangle(light_library("", "<area><color>1 1 1</color></area>"),
-          "<matrix>1 1 0 0  1 1 0 0  0 0 1 0  0 0 0 1</matrix>"); }, Outcome::kError, "<area>",
-       "zero area or a degenerate transform"},
-      {"camera_fov_out_of_range", [] { return collada(kTriangleGeometry + R"(<library_cameras><camera id="c">
+      {"zero_area_light",
+       [] { return lit_triangle(light_library("", "<area><color>1 1 1</color></area>"), "<scale>0 1 1</scale>"); },
+       Outcome::kError, "<area>", "zero area or a degenerate transform"},
+      {"collinear_area_light",
+       [] {
+         return lit_triangle(light_library("", "<area><color>1 1 1</color></area>"),
+                             "<matrix>1 1 0 0  1 1 0 0  0 0 1 0  0 0 0 1</matrix>");
+       },
+       Outcome::kError, "<area>", "zero area or a degenerate transform"},
+      {"camera_fov_out_of_range",
+       [] {
+         return collada(kTriangleGeometry + R"(<library_cameras><camera id="c">
           <optics><technique_common><perspective><xfov>200</xfov></perspective></technique_common></optics>
-          </camera></library_cameras>)", "<node><instance_geometry url=\"#tri\"/></node><node><instance_camera "
-          "url=\"#c\"/></node>"); }, Outcome::kError, "<xfov>", "field of view must be between 0 and 180 degrees"},
+          </camera></library_cameras>)",
+                        "<node><instance_geometry url=\"#tri\"/></node><node><instance_camera "
+                        "url=\"#c\"/></node>");
+       },
+       Outcome::kError, "<xfov>", "field of view must be between 0 and 180 degrees"},
   };
 }
 
@@ -230,24 +294,33 @@ std::vector<HostileFile> warning_cases() {
   return {
       {"unknown_light_type", [] { return lit_triangle(light_library("<laser><color>1 1 1</color></laser>")); },
        Outcome::kWarning, "", "<light id=\"l\">: unknown light type <laser>; skipped"},
-      {"spot_light", [] { return lit_triangle(light_library("<spot><color>1 1 1</color></spot>")); },
-       Outcome::kWarning, "", "<light id=\"l\">: spot lights are not supported; skipped"},
-      {"unknown_material_type", [] { return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
+      {"spot_light", [] { return lit_triangle(light_library("<spot><color>1 1 1</color></spot>")); }, Outcome::kWarning,
+       "", "<light id=\"l\">: spot lights are not supported; skipped"},
+      {"unknown_material_type",
+       [] {
+         return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
           <color>0.5 0.5 0.5 1</color></diffuse></lambert></technique></profile_COMMON><extra><technique
-          profile="CGL"><velvet><sheen>1</sheen></velvet></technique></extra>)"); }, Outcome::kWarning, "",
+          profile="CGL"><velvet><sheen>1</sheen></velvet></technique></extra>)");
+       },
+       Outcome::kWarning, "",
        "<velvet>: CGL <velvet> material is not supported; rendered as Lambertian with its diffuse colour"},
-      {"rough_glass", [] { return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
+      {"rough_glass",
+       [] {
+         return effect_file(R"(<profile_COMMON><technique sid="c"><lambert><diffuse>
           <color>0.5 0.5 0.5 1</color></diffuse></lambert></technique></profile_COMMON><extra><technique
-          profile="CGL"><glass><roughness>0.2</roughness><ior>1.5</ior></glass></technique></extra>)"); },
-       Outcome::kWarning, "", "<roughness>: roughness is ignored: rendered as a smooth dielectric (as the course does)"},
-      {"unknown_up_axis", [] { return collada(kTriangleGeometry, "<node><instance_geometry url=\"#tri\"/></node>",
-          "W_UP"); }, Outcome::kWarning, "", "<up_axis>: unknown up axis \"W_UP\"; using Y_UP"},
+          profile="CGL"><glass><roughness>0.2</roughness><ior>1.5</ior></glass></technique></extra>)");
+       },
+       Outcome::kWarning, "",
+       "<roughness>: roughness is ignored: rendered as a smooth dielectric (as the course does)"},
+      {"unknown_up_axis",
+       [] { return collada(kTriangleGeometry, "<node><instance_geometry url=\"#tri\"/></node>", "W_UP"); },
+       Outcome::kWarning, "", "<up_axis>: unknown up axis \"W_UP\"; using Y_UP"},
       {"empty_scene", [] { return collada("", ""); }, Outcome::kWarning, "",
        "the scene has no geometry; it renders black"},
-      {"deep_xml_outside_the_scene", [] { return collada("<extra>" + nested("<a>", "</a>", 300000) + "</extra>",
-          ""); }, Outcome::kWarning, "", "the scene has no geometry; it renders black"},
-      {"tiny_numbers_underflow_to_zero", [] { return mesh_file(array_of("1e-50 -1e-60 0 1 0 0 0 1 0"),
-          kTriangle); }, Outcome::kWarning, "", ""},
+      {"deep_xml_outside_the_scene", [] { return collada("<extra>" + nested("<a>", "</a>", 300000) + "</extra>", ""); },
+       Outcome::kWarning, "", "the scene has no geometry; it renders black"},
+      {"tiny_numbers_underflow_to_zero", [] { return mesh_file(array_of("1e-50 -1e-60 0 1 0 0 0 1 0"), kTriangle); },
+       Outcome::kWarning, "", ""},
   };
 }
 
@@ -262,8 +335,8 @@ std::vector<HostileFile> all_cases() {
 
 /// Renders `scene` at 8x8, 1 sample, into out.pfm in `dir`.
 test::ProcessResult render(const test::ScratchDir& dir, const std::string& scene) {
-  return test::run_process(PT_PATHTRACER_BINARY, {"-q", "-r", "8", "8", "-s", "1", "-f", "out.pfm", scene},
-                           dir.path(), kTimeLimit, kMemoryLimit);
+  return test::run_process(PT_PATHTRACER_BINARY, {"-q", "-r", "8", "8", "-s", "1", "-f", "out.pfm", scene}, dir.path(),
+                           kTimeLimit, kMemoryLimit);
 }
 
 /// Exit 1, exactly one stderr line "error: SCENE...", no file added to `dir`.
@@ -278,9 +351,7 @@ void expect_one_line_error(const test::ScratchDir& dir, const std::vector<std::s
   const std::string& line = lines[0];
   std::printf("    %s\n", line.c_str());
   EXPECT_EQ(line.rfind("error: " + scene + ":", 0), 0u) << line;
-  if (!element.empty()) {
-    EXPECT_NE(line.find(": " + element + ": "), std::string::npos) << line;
-  }
+  if (!element.empty()) { EXPECT_NE(line.find(": " + element + ": "), std::string::npos) << line; }
   EXPECT_NE(line.find(problem), std::string::npos) << line;
   EXPECT_LT(line.size(), 400u);
   EXPECT_EQ(dir.entries(), before) << "an output or temporary file was left behind";
@@ -300,9 +371,7 @@ TEST_P(HostileFileTest, FailsCleanlyOrRendersWithWarnings) {
 
   ASSERT_FALSE(r.timed_out);
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  if (c.problem.empty()) {
-    EXPECT_EQ(r.err, "");
-  }
+  if (c.problem.empty()) { EXPECT_EQ(r.err, ""); }
   bool found = c.problem.empty();
   for (const std::string& line : test::lines_of(r.err)) {
     EXPECT_EQ(line.rfind("warning: " + scene, 0), 0u) << line;
@@ -313,13 +382,12 @@ TEST_P(HostileFileTest, FailsCleanlyOrRendersWithWarnings) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out.pfm"));
 }
 
-INSTANTIATE_TEST_SUITE_P(Table, HostileFileTest, ::testing::ValuesIn(all_cases()),
-                         [](const auto& info) {
-                           std::string n = info.param.name;
-                           for (char& ch : n)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Table, HostileFileTest, ::testing::ValuesIn(all_cases()), [](const auto& info) {
+  std::string n = info.param.name;
+  for (char& ch : n)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return n;
+});
 
 TEST(HostileFile, EmptySceneRendersBlack) {
   test::ScratchDir dir;
@@ -340,12 +408,13 @@ TEST(NotASceneFile, DirectoryMissingFileFifoAndDanglingLink) {
   std::filesystem::create_directory(dir / "a_directory");
   ASSERT_EQ(mkfifo((dir / "a_fifo").c_str(), 0644), 0);
   std::filesystem::create_symlink(dir / "nowhere.dae", dir / "dangling.dae");
-  struct Case { std::string path, problem; };
-  for (const Case& c : {Case{(dir / "a_directory").string(), "is a directory, not a scene file"},
-                        Case{(dir / "missing.dae").string(), "no such file"},
-                        Case{(dir / "a_fifo").string(), "is not a regular file"},
-                        Case{(dir / "dangling.dae").string(), "no such file"},
-                        Case{"/dev/zero", "is not a regular file"}}) {
+  struct Case {
+    std::string path, problem;
+  };
+  for (const Case& c :
+       {Case{(dir / "a_directory").string(), "is a directory, not a scene file"},
+        Case{(dir / "missing.dae").string(), "no such file"}, Case{(dir / "a_fifo").string(), "is not a regular file"},
+        Case{(dir / "dangling.dae").string(), "no such file"}, Case{"/dev/zero", "is not a regular file"}}) {
     SCOPED_TRACE(c.path);
     std::vector<std::string> before = dir.entries();
     test::ProcessResult r = render(dir, c.path);

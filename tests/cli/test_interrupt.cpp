@@ -88,7 +88,10 @@ TEST(Resume, FromTheMiddleOfAPassEqualsAnUninterruptedRender) {
   // Some pixels are ahead of the others: the interrupted pass was partly done.
   uint32_t lo = UINT32_MAX, hi = 0;
   for (const PixelAccumulator& p : saved.pixels)
-    if (!p.converged) { lo = std::min(lo, p.samples); hi = std::max(hi, p.samples); }
+    if (!p.converged) {
+      lo = std::min(lo, p.samples);
+      hi = std::max(hi, p.samples);
+    }
   EXPECT_LT(lo, hi);
   RenderControl resume;
   resume.resume_from = &saved;
@@ -115,7 +118,7 @@ TEST(Checkpoint, RoundTripsAndRefusesADifferentRender) {
   EXPECT_THROW(load_checkpoint(path, render_fingerprint("wavefront", f.scene, f.camera, other), acc.pixels.size(), 64),
                InputError);
   EXPECT_THROW(load_checkpoint(path, fp, acc.pixels.size(), 4), InputError);  // more samples done than -s 4 takes
-  {  // flip one byte: the checksum catches it
+  {                                                                           // flip one byte: the checksum catches it
     std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
     io.seekp(100);
     io.put('\x7f');
@@ -127,16 +130,16 @@ TEST(Checkpoint, RoundTripsAndRefusesADifferentRender) {
 
 /// Runs the pathtracer with `args`; sends SIGINT after `interrupt_after` seconds if > 0.
 int run_pathtracer(const std::vector<std::string>& args, double interrupt_after) {
-  test::ProcessResult r = test::run_process(PT_PATHTRACER_BINARY, args, std::filesystem::current_path(), 600.0, 0,
-                                            interrupt_after);
+  test::ProcessResult r =
+      test::run_process(PT_PATHTRACER_BINARY, args, std::filesystem::current_path(), 600.0, 0, interrupt_after);
   return r.timed_out ? -1 : r.exit_code;
 }
 
 TEST(CommandLine, SigintWritesAPartialImageAndTheCheckpointResumesExactly) {
   test::ScratchDir scratch;  // unique: test programs may run concurrently
   const std::filesystem::path dir = scratch.path();
-  std::vector<std::string> common = {"--engine", "wavefront", "-t", "2", "-s", "4096", "-m", "5", "-a", "64", "0.005",
-                                     "-r", "96", "72", "-q"};
+  std::vector<std::string> common = {"--engine", "wavefront", "-t",    "2",  "-s", "4096", "-m", "5",
+                                     "-a",       "64",        "0.005", "-r", "96", "72",   "-q"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> a = common;
     a.insert(a.end(), extra.begin(), extra.end());

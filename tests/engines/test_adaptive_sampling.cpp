@@ -94,9 +94,7 @@ TEST(AdaptiveSampling, StopsOnlyAtChecksAndOffMeansEverySample) {
       EXPECT_GT(early, 0) << e.name;
       EXPECT_GT(full, 0) << e.name;
       // Power: independent numbers do stop between powers of two here (96, 160, ...).
-      if (sampler == PixelSampler::kIndependent) {
-        EXPECT_GT(off_power_of_two, 0) << e.name;
-      }
+      if (sampler == PixelSampler::kIndependent) { EXPECT_GT(off_power_of_two, 0) << e.name; }
       rs.adaptive_tolerance = 0.0f;
       out = e.render(s, camera, rs);
       for (uint32_t n : out.film.samples) ASSERT_EQ(n, uint32_t(kMax)) << e.name;
@@ -113,10 +111,12 @@ TEST(AdaptiveSampling, SobolChecksStartAtThePowerOfTwoAboveTheBatch) {
     rs.adaptive_batch = 48;
     rs.sampler = PixelSampler::kSobol;
     RenderOutput out = e.render(s, down, rs);
-    for (size_t i = 0; i < out.film.samples.size(); ++i) ASSERT_EQ(out.film.samples[i], 64u) << e.name << " pixel " << i;
+    for (size_t i = 0; i < out.film.samples.size(); ++i)
+      ASSERT_EQ(out.film.samples[i], 64u) << e.name << " pixel " << i;
     rs.sampler = PixelSampler::kIndependent;
     out = e.render(s, down, rs);
-    for (size_t i = 0; i < out.film.samples.size(); ++i) ASSERT_EQ(out.film.samples[i], 48u) << e.name << " pixel " << i;
+    for (size_t i = 0; i < out.film.samples.size(); ++i)
+      ASSERT_EQ(out.film.samples[i], 48u) << e.name << " pixel " << i;
   }
 }
 

@@ -113,10 +113,10 @@ TEST(ClosedFormLighting, AreaLightIrradianceOnAFloor) {
         RenderSettings rs = test::fixed_settings(16, 16, hits_the_light(est) ? 2560 : 256);
         rs.max_depth = 2;
         rs.direct = est.direct;
-        std::string what = e.name + ", " + est.name + ", floor point (" + std::to_string(p.x) + ", " +
-                           std::to_string(p.z) + ")";
-        test::expect_film_estimates(render_point(e, open, {p.x + 0.05f, 0.3f, p.z + 0.1f}, {p.x, 0, p.z}, rs),
-                                    expected, what);
+        std::string what =
+            e.name + ", " + est.name + ", floor point (" + std::to_string(p.x) + ", " + std::to_string(p.z) + ")";
+        test::expect_film_estimates(render_point(e, open, {p.x + 0.05f, 0.3f, p.z + 0.1f}, {p.x, 0, p.z}, rs), expected,
+                                    what);
       }
   }
 }

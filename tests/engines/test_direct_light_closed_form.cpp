@@ -59,8 +59,8 @@ TEST(DirectLightClosedForm, DirectionalLightOnAPlane) {
 TEST(DirectLightClosedForm, PointLightWithoutFalloff) {
   const float3 p{0.2f, 0.0f, 0.3f};
   const Camera camera = test::look_at({0.7f, 1.5f, -0.4f}, p, kTiny, kTiny);
-  for (float3 light : {float3{0.2f, 3.0f, 0.3f}, float3{0.0f, 1.0f, 0.0f}, float3{2.0f, 0.5f, -1.0f},
-                       float3{-40.0f, 30.0f, 25.0f}}) {
+  for (float3 light :
+       {float3{0.2f, 3.0f, 0.3f}, float3{0.0f, 1.0f, 0.0f}, float3{2.0f, 0.5f, -1.0f}, float3{-40.0f, 30.0f, 25.0f}}) {
     Scene s = lit_plane();
     s.point_lights.push_back({light, kLightColour});
     test::finish_scene(s);

@@ -92,12 +92,10 @@ std::vector<double> breaks(double a, double b, double step) {
 /// (sin(theta) dtheta dphi), split at every multiple of dt and dp (where f
 /// may jump or kink) with 4-point Gauss-Legendre on each piece: exact for
 /// f sin(theta) constant or polynomial of degree <= 7 per piece.
-double integrate(const std::function<double(double, double)>& f, double t0, double t1, double p0, double p1,
-                 double dt, double dp) {
-  static constexpr double kNode[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
-                                      0.8611363115940526};
-  static constexpr double kWeight[4] = {0.3478548451374638, 0.6521451548625461, 0.6521451548625461,
-                                        0.3478548451374638};
+double integrate(const std::function<double(double, double)>& f, double t0, double t1, double p0, double p1, double dt,
+                 double dp) {
+  static constexpr double kNode[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
+  static constexpr double kWeight[4] = {0.3478548451374638, 0.6521451548625461, 0.6521451548625461, 0.3478548451374638};
   const std::vector<double> ts = breaks(t0, t1, dt), ps = breaks(p0, p1, dp);
   double sum = 0.0;
   for (size_t a = 0; a + 1 < ts.size(); ++a)
@@ -227,7 +225,11 @@ TEST(ExrImage, ForgedEmptyAndAbsurdSizesAreRefusedBeforeDecoding) {
 TEST(ExrImage, NonFiniteAndNegativeTexelsAreRefusedNamingTheTexel) {
   ScratchDir dir;
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  struct Case { const char* name; float3 value; const char* what; };
+  struct Case {
+    const char* name;
+    float3 value;
+    const char* what;
+  };
   for (const Case& c : {Case{"nan.exr", {1, nan, 1}, "texel (3, 1) is not finite"},
                         Case{"inf.exr", {inf, 1, 1}, "texel (3, 1) is not finite"},
                         Case{"negative.exr", {1, 1, -0.5f}, "texel (3, 1) is negative"}}) {
@@ -279,7 +281,8 @@ double reference_bilinear(const std::vector<float3>& t, int w, int h, double x, 
     j = std::clamp(j, 0, h - 1);
     return double(t[size_t(j) * w + i][c]);
   };
-  return (1 - ty) * ((1 - tx) * at(i0, j0) + tx * at(i0 + 1, j0)) + ty * ((1 - tx) * at(i0, j0 + 1) + tx * at(i0 + 1, j0 + 1));
+  return (1 - ty) * ((1 - tx) * at(i0, j0) + tx * at(i0 + 1, j0)) +
+         ty * ((1 - tx) * at(i0, j0 + 1) + tx * at(i0 + 1, j0 + 1));
 }
 
 TEST(EnvironmentLookup, AgreesWithAnIndependentBilinearInterpolationWrappingAndClamping) {
@@ -359,12 +362,13 @@ TEST(EnvironmentSampling, PdfIntegratesToOneOverTheSphere) {
 TEST(EnvironmentSampling, SampleAgreesWithPdfAndRadiance) {
   for (const NamedMap& nm : all_maps()) {
     UniformSource u(17);
-    std::vector<std::pair<float, float>> us{{0, 0}, {0x1.fffffep-1f, 0x1.fffffep-1f}, {1.0f, 1.0f},
-                                            {0, 0x1.fffffep-1f}, {-0.5f, 2.0f}};
+    std::vector<std::pair<float, float>> us{
+        {0, 0}, {0x1.fffffep-1f, 0x1.fffffep-1f}, {1.0f, 1.0f}, {0, 0x1.fffffep-1f}, {-0.5f, 2.0f}};
     for (int k = 0; k < 20000; ++k) us.emplace_back(u.next(), u.next());
     for (auto [u1, u2] : us) {
       const EnvironmentMap::Sample s = nm.map.sample(u1, u2);
-      ASSERT_TRUE(is_finite(s.wi) && std::isfinite(s.pdf) && is_finite(s.radiance)) << nm.name << " u " << u1 << " " << u2;
+      ASSERT_TRUE(is_finite(s.wi) && std::isfinite(s.pdf) && is_finite(s.radiance))
+          << nm.name << " u " << u1 << " " << u2;
       ASSERT_NEAR(length(s.wi), 1.0f, 1e-5f) << nm.name;
       ASSERT_TRUE(s.radiance == nm.map.radiance(s.wi)) << nm.name;
       if (sin_theta_of(s.wi) < 1e-4) continue;
@@ -397,12 +401,16 @@ std::vector<double> expected_texel_probabilities(const std::vector<float3>& t, i
 }
 
 TEST(EnvironmentSampling, TexelProbabilitiesFollowDilatedLuminanceTimesSinTheta) {
-  struct Case { const char* name; int w, h; std::vector<float3> t; };
+  struct Case {
+    const char* name;
+    int w, h;
+    std::vector<float3> t;
+  };
   std::vector<float3> lone = bright_texel_texels(kBw, kBh, kBi, kBj, 0.0f);
-  for (const Case& c : {Case{"bright texel", kBw, kBh, bright_texel_texels(kBw, kBh, kBi, kBj, 0.01f)},
-                        Case{"bright texel on black", kBw, kBh, lone},
-                        Case{"gradient", kGw, kGh, gradient_texels(kGw, kGh)},
-                        Case{"black", 10, 7, constant_texels(10, 7, float3(0.0f))}}) {
+  for (const Case& c :
+       {Case{"bright texel", kBw, kBh, bright_texel_texels(kBw, kBh, kBi, kBj, 0.01f)},
+        Case{"bright texel on black", kBw, kBh, lone}, Case{"gradient", kGw, kGh, gradient_texels(kGw, kGh)},
+        Case{"black", 10, 7, constant_texels(10, 7, float3(0.0f))}}) {
     const EnvironmentMap m(c.w, c.h, c.t);
     const std::vector<double> want = expected_texel_probabilities(c.t, c.w, c.h);
     for (int j = 0; j < c.h; ++j)
@@ -424,9 +432,7 @@ TEST(EnvironmentSampling, PdfIsPositiveWhereverRadianceIs) {
   for (int a = 1; a < 400; ++a)
     for (int b = 0; b < 800; ++b) {
       const float3 d = dir_at(kPiD * a / 400, 2 * kPiD * (b + 0.5) / 800);
-      if (is_black(m.radiance(d))) {
-        continue;
-      }
+      if (is_black(m.radiance(d))) { continue; }
       ++lit;
       ASSERT_GT(m.pdf(d), 0.0f) << "theta " << kPiD * a / 400 << " phi " << 2 * kPiD * (b + 0.5) / 800;
     }
@@ -444,8 +450,8 @@ test::ChiSquareResult chi_square(const EnvironmentMap& sampled, const Environmen
     hist.add(-d.x, d.z, d.y);
   }
   const auto mass = [&](double z0, double z1, double p0, double p1) {
-    return integrate([&](double t, double p) { return density.pdf(dir_at(t, p)); }, std::acos(z1), std::acos(z0),
-                     p0, p1, kPiD / (2 * density.height()), kPiD / density.width());
+    return integrate([&](double t, double p) { return density.pdf(dir_at(t, p)); }, std::acos(z1), std::acos(z0), p0,
+                     p1, kPiD / (2 * density.height()), kPiD / density.width());
   };
   const std::vector<double> expected = hist.expected(kChiSquareSamples, mass);
   return test::chi_square_test(hist.counts(), expected);
@@ -514,9 +520,9 @@ TEST(EnvironmentSampling, SamplesConcentrateWhereTheBrightTexelIs) {
 // importance-sampled estimate against quadrature, |z| < 4 (two-sided 6e-5).
 TEST(EnvironmentSampling, ImportanceSampledHemisphereIntegralMatchesQuadrature) {
   const EnvironmentMap m = gradient_map();
-  const double exact = integrate(
-      [&](double t, double p) { return double(illuminance(m.radiance(dir_at(t, p)))) * std::cos(t); }, 0,
-      kPiD / 2, 0, 2 * kPiD, kPiD / (2 * kGh), kPiD / kGw);
+  const double exact =
+      integrate([&](double t, double p) { return double(illuminance(m.radiance(dir_at(t, p)))) * std::cos(t); }, 0,
+                kPiD / 2, 0, 2 * kPiD, kPiD / (2 * kGh), kPiD / kGw);
   const int n = 1 << 18;
   std::vector<double> values(n);
   UniformSource u(47);
@@ -526,8 +532,8 @@ TEST(EnvironmentSampling, ImportanceSampledHemisphereIntegralMatchesQuadrature) 
   }
   const test::MeanError me = test::mean_and_error(values);
   EXPECT_LT(me.standard_error, 0.01 * exact) << "too noisy to mean anything";
-  EXPECT_LT(std::fabs(test::z_score(me, exact)), 4.0) << "estimate " << me.mean << " +- " << me.standard_error
-                                                      << ", quadrature " << exact;
+  EXPECT_LT(std::fabs(test::z_score(me, exact)), 4.0)
+      << "estimate " << me.mean << " +- " << me.standard_error << ", quadrature " << exact;
   std::printf("hemisphere: estimate %.6f +- %.6f, quadrature %.6f\n", me.mean, me.standard_error, exact);
 }
 

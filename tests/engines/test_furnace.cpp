@@ -40,12 +40,16 @@ struct FurnaceCase {
 };
 
 const FurnaceCase kCases[] = {
-    {"accumulate m=1", BounceMode::kAccumulate, 1},    {"accumulate m=3", BounceMode::kAccumulate, 3},
+    {"accumulate m=1", BounceMode::kAccumulate, 1},
+    {"accumulate m=3", BounceMode::kAccumulate, 3},
     {"accumulate m=200 (the limit)", BounceMode::kAccumulate, 200},
     {"accumulate m=6 rr=0.4", BounceMode::kAccumulate, 6, 0.4f},
-    {"only-m m=1", BounceMode::kOnlyBounceM, 1},       {"only-m m=3", BounceMode::kOnlyBounceM, 3},
-    {"direct m=1", BounceMode::kDirectOnly, 1},        {"direct m=4", BounceMode::kDirectOnly, 4},
-    {"indirect m=1", BounceMode::kIndirectOnly, 1},    {"indirect m=4", BounceMode::kIndirectOnly, 4},
+    {"only-m m=1", BounceMode::kOnlyBounceM, 1},
+    {"only-m m=3", BounceMode::kOnlyBounceM, 3},
+    {"direct m=1", BounceMode::kDirectOnly, 1},
+    {"direct m=4", BounceMode::kDirectOnly, 4},
+    {"indirect m=1", BounceMode::kIndirectOnly, 1},
+    {"indirect m=4", BounceMode::kIndirectOnly, 4},
 };
 
 float bounce_sum(float rho, int first, int last) {

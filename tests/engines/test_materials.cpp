@@ -69,8 +69,8 @@ TEST(Materials, MirrorAndGlassSpheresAreInvisibleInAUniformEnvironment) {
     Camera cam = test::look_at({0.3f, 0.2f, 4.0f}, {0.0f, 0.0f, 0.0f}, 0.35f, 0.3f);
     for (const Mode& mode : kModes) {
       RenderSettings rs = test::fixed_settings(24, 20, 4);
-      rs.max_depth = 64;       // a path stays inside the glass for more bounces with probability < 1e-80
-      rs.rr_continue = 1.0f;   // no roulette: every path's weight is exact
+      rs.max_depth = 64;      // a path stays inside the glass for more bounces with probability < 1e-80
+      rs.rr_continue = 1.0f;  // no roulette: every path's weight is exact
       rs.direct = mode.direct;
       rs.cs184_materials = mode.course;
       for (const test::EngineUnderTest& engine : test::engines_under_test()) {
@@ -107,7 +107,8 @@ TEST(Materials, AMirrorAtTheLastVertexShowsTheLightItReflects) {
         Film f = engine.render(s, cam, rs).film;
         for (const float3& px : f.radiance)
           for (int c = 0; c < 3; ++c)
-            ASSERT_NEAR(px[c], expected[c], 1e-5f * expected[c]) << engine.name << ", " << mode.name << ", -m " << depth;
+            ASSERT_NEAR(px[c], expected[c], 1e-5f * expected[c])
+                << engine.name << ", " << mode.name << ", -m " << depth;
       }
     }
 }
@@ -271,7 +272,8 @@ TEST(Stability, ExtremeRoughnessAndIndicesGiveNoNaNOrInfinity) {
       s.sky = SkyLight{float3(0.3f)};
       test::finish_scene(s);
       Camera cam = test::look_at({0.5f, 1.5f, 3.0f}, {0.4f, 0.4f, 0.0f}, 0.4f, 0.4f);
-      for (DirectLighting direct : {DirectLighting::kLightSampling, DirectLighting::kMis, DirectLighting::kHemisphere}) {
+      for (DirectLighting direct :
+           {DirectLighting::kLightSampling, DirectLighting::kMis, DirectLighting::kHemisphere}) {
         RenderSettings rs = test::fixed_settings(16, 16, 16);
         rs.max_depth = 8;
         rs.direct = direct;

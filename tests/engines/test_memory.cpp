@@ -34,7 +34,8 @@ const cli::MemoryLine& line(const cli::MemoryReport& r, const std::string& name)
   return missing;
 }
 
-template <class V> void shrink(V& v) {
+template <class V>
+void shrink(V& v) {
   v.shrink_to_fit();
   ASSERT_EQ(v.capacity(), v.size());
 }
@@ -105,10 +106,11 @@ TEST(PeakMemory, CBbunnyAt480x360StaysUnder64MBInEveryEngine) {
   test::ScratchDir scratch;  // unique: test programs may run concurrently
   std::filesystem::path out = scratch / "memory.png";
   for (const char* engine : {"wavefront", "megakernel", "reference"}) {
-    test::ProcessResult r = test::run_process(
-        PT_PATHTRACER_BINARY, {"--engine", engine, "-t", "2", "-s", "2", "-m", "5", "-a", "16", "0", "-r", "480", "360",
-                               "--memory", "-q", "-f", out.string(), test::shared_scene("CBbunny.dae").string()},
-        std::filesystem::temp_directory_path(), 300);
+    test::ProcessResult r =
+        test::run_process(PT_PATHTRACER_BINARY,
+                          {"--engine", engine, "-t", "2", "-s", "2", "-m", "5", "-a", "16", "0", "-r", "480", "360",
+                           "--memory", "-q", "-f", out.string(), test::shared_scene("CBbunny.dae").string()},
+                          std::filesystem::temp_directory_path(), 300);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_LT(r.peak_rss_bytes, limit) << engine << "\n" << r.out;
     // The report's own peak (getrusage at its end) is the kernel's figure.

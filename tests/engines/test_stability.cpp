@@ -60,7 +60,8 @@ TEST(DeltaLightsOnly, HemisphereAndCosineSamplingGetExactlyZero) {
 std::string delta_lit_collada(const std::string& light) {
   return R"(<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
 <asset><up_axis>Y_UP</up_axis></asset>
-<library_lights><light id="l"><technique_common>)" + light + R"(</technique_common></light></library_lights>
+<library_lights><light id="l"><technique_common>)" +
+         light + R"(</technique_common></light></library_lights>
 <library_geometries><geometry id="floor"><mesh>
 <source id="p"><float_array id="a" count="12">-1 0 -1 1 0 -1 1 0 1 -1 0 1</float_array>
 <technique_common><accessor source="#a" count="4" stride="3"/></technique_common></source>

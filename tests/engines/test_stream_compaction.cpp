@@ -16,14 +16,15 @@ namespace pt {
 namespace {
 
 /// Distinct values: field f of item i holds 100000 f + i.
-#define PT_FILL_FIELD(T, name)                                  \
+#define PT_FILL_FIELD(T, name)                                                   \
   for (size_t i = 0; i < n; ++i) q.name[i] = static_cast<T>(100000 * field + i); \
   ++field;
-#define PT_CHECK_FIELD(T, name)                                                            \
-  for (size_t k = 0; k < kept.size(); ++k)                                                 \
+#define PT_CHECK_FIELD(T, name)            \
+  for (size_t k = 0; k < kept.size(); ++k) \
     ASSERT_EQ(out.name[k], in.name[kept[k]]) << #name << " of survivor " << k << " (item " << kept[k] << ")";
 
-template <class Queue> std::vector<uint32_t> random_masks(size_t n, size_t lanes, std::mt19937& rng) {
+template <class Queue>
+std::vector<uint32_t> random_masks(size_t n, size_t lanes, std::mt19937& rng) {
   std::vector<uint32_t> masks((n + lanes - 1) / lanes);
   for (size_t c = 0; c < masks.size(); ++c) {
     masks[c] = static_cast<uint32_t>(rng()) & lanes_below(lanes);
@@ -70,7 +71,9 @@ TEST(StreamCompaction, EveryFieldOfARayReachesTheNextQueue) {
         PT_RAY_FIELDS(PT_FILL_FIELD)
       },
       test::lane_probes(active_isa()).compact_rays,
-      [](const wf::RayQueue& in, const wf::RayQueue& out, const std::vector<size_t>& kept) { PT_RAY_FIELDS(PT_CHECK_FIELD) });
+      [](const wf::RayQueue& in, const wf::RayQueue& out, const std::vector<size_t>& kept) {
+        PT_RAY_FIELDS(PT_CHECK_FIELD)
+      });
 }
 
 TEST(StreamCompaction, EveryFieldOfAShadowRayReachesTheNextQueue) {

@@ -55,9 +55,7 @@ TEST(AtomicFile, FailureThrowsNamingThePathAndLeavesNothing) {
     try {
       write_file_atomically(bad, "data");
       ADD_FAILURE() << "no error";
-    } catch (const InputError& e) {
-      EXPECT_EQ(std::string(e.what()).rfind(bad.string() + ": ", 0), 0u) << e.what();
-    }
+    } catch (const InputError& e) { EXPECT_EQ(std::string(e.what()).rfind(bad.string() + ": ", 0), 0u) << e.what(); }
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"sub"});
     EXPECT_TRUE(std::filesystem::is_empty(dir / "sub"));
   }

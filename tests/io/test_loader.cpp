@@ -59,11 +59,10 @@ TEST_P(SharedSceneTest, CountsLightsAndBounds) {
   for (uint32_t m : s.triangle_material) ASSERT_LT(m, s.materials.size());
 }
 
-INSTANTIATE_TEST_SUITE_P(Public, SharedSceneTest, ::testing::ValuesIn(kShared),
-                         [](const auto& info) {
-                           std::string n = info.param.file;
-                           return n.substr(0, n.find('.'));
-                         });
+INSTANTIATE_TEST_SUITE_P(Public, SharedSceneTest, ::testing::ValuesIn(kShared), [](const auto& info) {
+  std::string n = info.param.file;
+  return n.substr(0, n.find('.'));
+});
 
 TEST(SharedScenes, CornellAreaLightIsTheCourseLight) {
   PT_REQUIRE_SHARED_SCENES();
@@ -91,8 +90,8 @@ TEST(SharedScenes, GemsCameraMatrixWithFifteenNumbersLoadsWithAWarning) {
 /// A COLLADA document with the given up axis, library contents and nodes.
 std::string collada(const std::string& up, const std::string& libraries, const std::string& nodes) {
   return R"(<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">)"
-         "<asset><up_axis>" + up + "</up_axis></asset>" + libraries +
-         "<library_visual_scenes><visual_scene id=\"s\">" + nodes +
+         "<asset><up_axis>" +
+         up + "</up_axis></asset>" + libraries + "<library_visual_scenes><visual_scene id=\"s\">" + nodes +
          "</visual_scene></library_visual_scenes><scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>";
 }
 
@@ -173,9 +172,15 @@ TEST(Meshes, PolylistIsFanTriangulatedUsingTheVertexOffset) {
      </mesh></geometry></library_geometries>)";
   Scene s = load_string(collada("Y_UP", geom, R"(<node><instance_geometry url="#g"/></node>)")).scene;
   ASSERT_EQ(s.triangles.size(), 3u);
-  EXPECT_EQ(s.triangles[0].v0, 0u); EXPECT_EQ(s.triangles[0].v1, 1u); EXPECT_EQ(s.triangles[0].v2, 2u);
-  EXPECT_EQ(s.triangles[1].v0, 0u); EXPECT_EQ(s.triangles[1].v1, 2u); EXPECT_EQ(s.triangles[1].v2, 3u);
-  EXPECT_EQ(s.triangles[2].v0, 2u); EXPECT_EQ(s.triangles[2].v1, 4u); EXPECT_EQ(s.triangles[2].v2, 3u);
+  EXPECT_EQ(s.triangles[0].v0, 0u);
+  EXPECT_EQ(s.triangles[0].v1, 1u);
+  EXPECT_EQ(s.triangles[0].v2, 2u);
+  EXPECT_EQ(s.triangles[1].v0, 0u);
+  EXPECT_EQ(s.triangles[1].v1, 2u);
+  EXPECT_EQ(s.triangles[1].v2, 3u);
+  EXPECT_EQ(s.triangles[2].v0, 2u);
+  EXPECT_EQ(s.triangles[2].v1, 4u);
+  EXPECT_EQ(s.triangles[2].v2, 3u);
 }
 
 TEST(Meshes, SmoothNormalsAreAreaWeightedOverSharedVertices) {
@@ -271,11 +276,13 @@ TEST(Materials, DiffuseColourEmissionAndCglMirror) {
        <material id="m-mirror"><instance_effect url="#mirror"/></material></library_materials>)";
   auto bound = [](const char* target) {
     return std::string(R"(<node><instance_geometry url="#tri"><bind_material><technique_common>
-        <instance_material symbol="x" target="#)") + target + R"("/></technique_common></bind_material>
+        <instance_material symbol="x" target="#)") +
+           target + R"("/></technique_common></bind_material>
         </instance_geometry></node>)";
   };
-  LoadResult r = load_string(collada("Y_UP", libs, bound("m-red") + bound("m-glow") + bound("m-mirror") +
-                                                       R"(<node><instance_geometry url="#tri"/></node>)"));
+  LoadResult r = load_string(collada(
+      "Y_UP", libs,
+      bound("m-red") + bound("m-glow") + bound("m-mirror") + R"(<node><instance_geometry url="#tri"/></node>)"));
   const Scene& s = r.scene;
   ASSERT_EQ(s.triangles.size(), 4u);
   EXPECT_EQ(s.materials[s.triangle_material[0]].albedo, float3(0.6f, 0.1f, 0.1f));
@@ -359,28 +366,39 @@ std::vector<Malformed> malformed_cases() {
       {"wrong_root", "<?xml version=\"1.0\"?><scene/>", "test.dae", "expected <COLLADA>"},
       {"missing_float_array", mesh_with("", kGoodPrim), "<source id=\"p\">", "no <float_array>"},
       {"missing_p", mesh_with(kGoodArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/>
-          </triangles>)"), "<triangles", "no <p>"},
+          </triangles>)"),
+       "<triangles", "no <p>"},
       {"index_out_of_range", mesh_with(kGoodArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v"
-          offset="0"/><p>0 1 3</p></triangles>)"), "<p>", "out of range"},
+          offset="0"/><p>0 1 3</p></triangles>)"),
+       "<p>", "out of range"},
       {"negative_index", mesh_with(kGoodArray, R"(<triangles count="1"><input semantic="VERTEX" source="#v"
-          offset="0"/><p>0 -1 2</p></triangles>)"), "<p>", "negative"},
+          offset="0"/><p>0 -1 2</p></triangles>)"),
+       "<p>", "negative"},
       {"array_count_lies", mesh_with(R"(<float_array id="a" count="12">0 0 0 1 0 0 0 1 0</float_array>)", kGoodPrim),
        "<float_array id=\"a\">", "count=\"12\""},
       {"absurd_triangle_count", mesh_with(kGoodArray, R"(<triangles count="999999999"><input semantic="VERTEX"
-          source="#v" offset="0"/><p>0 1 2</p></triangles>)"), "<triangles", "count"},
+          source="#v" offset="0"/><p>0 1 2</p></triangles>)"),
+       "<triangles", "count"},
       {"nan_position", mesh_with(R"(<float_array id="a" count="9">0 0 0 nan 0 0 0 1 0</float_array>)", kGoodPrim),
        "<float_array id=\"a\">", "non-finite"},
       {"inf_matrix", collada("Y_UP", kTriangleGeometry, R"(<node id="n"><matrix>1 0 0 inf 0 1 0 0 0 0 1 0 0 0 0 1
-          </matrix><instance_geometry url="#tri"/></node>)"), "<matrix>", "non-finite"},
-      {"zero_sphere_radius", collada("Y_UP", R"(<library_geometries><geometry id="sph"><extra><technique
+          </matrix><instance_geometry url="#tri"/></node>)"),
+       "<matrix>", "non-finite"},
+      {"zero_sphere_radius",
+       collada("Y_UP", R"(<library_geometries><geometry id="sph"><extra><technique
           profile="CGL"><sphere><radius>0</radius></sphere></technique></extra></geometry></library_geometries>)",
-          R"(<node><instance_geometry url="#sph"/></node>)"), "<radius>", "positive"},
+               R"(<node><instance_geometry url="#sph"/></node>)"),
+       "<radius>", "positive"},
       {"duplicate_id", collada("Y_UP", kTriangleGeometry, R"(<node id="tri"/>)"), "<node id=\"tri\">",
        "already defined"},
       {"degenerate_area_light", collada("Y_UP", kLights, R"(<node><scale>0 1 1</scale>
-          <instance_light url="#area"/></node>)"), "<area>", "zero area"},
-      {"node_cycle", collada("Y_UP", R"(<library_nodes><node id="loop"><instance_node url="#loop"/></node>
-          </library_nodes>)", R"(<node><instance_node url="#loop"/></node>)"), "<node id=\"loop\">", "cycle"},
+          <instance_light url="#area"/></node>)"),
+       "<area>", "zero area"},
+      {"node_cycle",
+       collada("Y_UP", R"(<library_nodes><node id="loop"><instance_node url="#loop"/></node>
+          </library_nodes>)",
+               R"(<node><instance_node url="#loop"/></node>)"),
+       "<node id=\"loop\">", "cycle"},
       {"dangling_reference", collada("Y_UP", "", R"(<node><instance_geometry url="#nothing"/></node>)"),
        "<instance_geometry url=\"#nothing\">", "no element defines"},
   };
@@ -409,9 +427,7 @@ TEST(Malformed, VeryDeepNestingIsRefusedWithoutExhaustingTheStack) {
   try {
     load_string(collada("Y_UP", "", nodes));
     ADD_FAILURE();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("nest deeper"), std::string::npos) << e.what();
-  }
+  } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("nest deeper"), std::string::npos) << e.what(); }
 }
 
 TEST(Malformed, DirectoryAndMissingFile) {

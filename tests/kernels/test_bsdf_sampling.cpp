@@ -48,7 +48,10 @@ double avg3(const V3& v) { return (double(v.x) + v.y + v.z) / 3.0; }
 double deg(double d) { return d * kPiD / 180.0; }
 
 /// RGB complex indices of metals (pbrt's spectra at about 650, 550, 450 nm).
-struct Metal { const char* name; V3 eta, k; };
+struct Metal {
+  const char* name;
+  V3 eta, k;
+};
 constexpr Metal kMetals[] = {{"copper", {0.200f, 0.924f, 1.102f}, {3.912f, 2.452f, 2.142f}},
                              {"aluminium", {1.657f, 0.880f, 0.521f}, {9.224f, 6.270f, 4.837f}},
                              {"silver", {0.155f, 0.117f, 0.138f}, {4.828f, 3.122f, 2.147f}},
@@ -65,7 +68,10 @@ TEST(LaneMath, ExpIsAccurateOverItsRangeAndZeroBelowIt) {
   for (int i = 0; i <= n; ++i) {
     float x = float(-80.0 + 160.0 * i / n);
     double ref = std::exp(double(x)), rel = std::fabs(lane::exp(x) - ref) / ref;
-    if (rel > worst) { worst = rel; worst_x = x; }
+    if (rel > worst) {
+      worst = rel;
+      worst_x = x;
+    }
   }
   std::printf("lane::exp: max relative error %.3g at x = %.6g\n", worst, worst_x);
   EXPECT_LT(worst, 1e-6) << "at x = " << worst_x;
@@ -85,14 +91,19 @@ TEST(LaneMath, LogIsAccurateOnTheUnitIntervalAndFrom1em30To1e30) {
     double ulp = std::nextafter(std::fabs(float(ref)), INFINITY) - std::fabs(float(ref));
     if (std::fabs(ref) < 4.0) worst_small = std::max(worst_small, err);
     double excess = (err - 5e-7) / ulp;
-    if (excess > worst_ulps) { worst_ulps = excess; worst_x = x; }
+    if (excess > worst_ulps) {
+      worst_ulps = excess;
+      worst_x = x;
+    }
   };
   for (int k = 1; k <= (1 << 24); ++k) check(k * 0x1p-24f);
   double worst_unit = worst_abs;
   const int n = 1000000;
   for (int i = 1; i <= n; ++i) check(float(std::pow(10.0, -30.0 + 60.0 * i / n)));
-  std::printf("lane::log: max abs error %.3g where |log x| < 4, %.3g on (0, 1], %.3g overall; beyond 5e-7 by at "
-              "most %.3g ulp (x = %g)\n", worst_small, worst_unit, worst_abs, worst_ulps, worst_x);
+  std::printf(
+      "lane::log: max abs error %.3g where |log x| < 4, %.3g on (0, 1], %.3g overall; beyond 5e-7 by at "
+      "most %.3g ulp (x = %g)\n",
+      worst_small, worst_unit, worst_abs, worst_ulps, worst_x);
   EXPECT_LT(worst_small, 5e-7);
   EXPECT_LE(worst_ulps, 1.0) << "at x = " << worst_x;
 }
@@ -103,7 +114,8 @@ TEST(LaneMath, BatchExpAndLogGiveTheFloatBits) {
   std::vector<float> xs = {0.0f, -0.0f, 1.0f, 88.0f, 100.0f, -87.0f, -87.5f, -100.0f, INFINITY, -INFINITY};
   std::mt19937 rng(11);
   for (int i = 0; i < 200000; ++i) xs.push_back(std::uniform_real_distribution<float>(-100.0f, 100.0f)(rng));
-  for (int i = 0; i < 200000; ++i) xs.push_back(float(std::pow(10.0, std::uniform_real_distribution<double>(-37, 38)(rng))));
+  for (int i = 0; i < 200000; ++i)
+    xs.push_back(float(std::pow(10.0, std::uniform_real_distribution<double>(-37, 38)(rng))));
   while (xs.size() % kW) xs.push_back(1.0f);
   for (size_t i = 0; i < xs.size(); i += kW) {
     std::array<float, kW> e, l;
@@ -112,9 +124,7 @@ TEST(LaneMath, BatchExpAndLogGiveTheFloatBits) {
     lane::log(x).store_unaligned(l.data());
     for (size_t j = 0; j < kW; ++j) {
       ASSERT_EQ(bits(e[j]), bits(lane::exp(xs[i + j]))) << "exp(" << xs[i + j] << ")";
-      if (xs[i + j] > 0.0f) {
-        ASSERT_EQ(bits(l[j]), bits(lane::log(xs[i + j]))) << "log(" << xs[i + j] << ")";
-      }
+      if (xs[i + j] > 0.0f) { ASSERT_EQ(bits(l[j]), bits(lane::log(xs[i + j]))) << "log(" << xs[i + j] << ")"; }
     }
   }
 }
@@ -179,7 +189,10 @@ TEST(Fresnel, ConductorNormalIncidenceAndTheApproximationsAgreement) {
       for (int i = 1; i <= 10000; ++i) {
         float c = i / 10000.0f, exact = fresnel_conductor(c, eta, k), course = fresnel_conductor_course(c, eta, k);
         ASSERT_TRUE(exact >= 0.0f && exact <= 1.0f && course >= 0.0f && course <= 1.0f) << metal.name << " " << c;
-        if (std::fabs(exact - course) > worst) { worst = std::fabs(exact - course); worst_name = metal.name; }
+        if (std::fabs(exact - course) > worst) {
+          worst = std::fabs(exact - course);
+          worst_name = metal.name;
+        }
       }
     }
   std::printf("conductor Fresnel: max |exact - course| = %.4f (%s)\n", worst, worst_name);
@@ -307,7 +320,9 @@ TEST(Dielectric, ReflectsWithTheFresnelProbability) {
 // ------------------------------------------------ microfacet chi-square
 
 /// Orthonormal frame (t, b, p) in double around the unit vector p.
-struct Frame3 { Vec3T<double> t, b, p; };
+struct Frame3 {
+  Vec3T<double> t, b, p;
+};
 Frame3 frame_around(Vec3T<double> p) {
   Frame3 f{{}, {}, p};
   tangent_frame(p.x, p.y, p.z, f.t, f.b);
@@ -351,7 +366,10 @@ MicrofacetChi2 microfacet_chi_square(float alpha_sampled, float alpha_expected, 
   for (int i = 0; i < n; ++i) {
     float u1 = u.next(), u2 = u.next();
     MicrofacetSampleT<float> s = sample_microfacet(m, wo, u1, u2, false);
-    if (!s.ok) { hist.add(0.0, 0.0, -2.0); continue; }
+    if (!s.ok) {
+      hist.add(0.0, 0.0, -2.0);
+      continue;
+    }
     out.accepted += 1;
     const V3& w = s.wi;
     hist.add(w.x * fr.t.x + w.y * fr.t.y + w.z * fr.t.z, w.x * fr.b.x + w.y * fr.b.y + w.z * fr.b.z,
@@ -407,10 +425,10 @@ TEST(Microfacet, SamplesFollowTheEvaluatedPdfChiSquare) {
   for (float alpha : {0.05f, 0.3f, 0.7f})
     for (double theta : {0.0, 40.0, 75.0}) {
       MicrofacetChi2 r = microfacet_chi_square(alpha, alpha, theta, ++seed);
-      std::printf("microfacet alpha %.2f theta_o %2.0f: p = %.3g (chi2 %.1f, dof %d), accepted %.4f, "
-                  "max rel pdf err %.2g, weight err %.2g\n",
-                  alpha, theta, r.chi.p_value, r.chi.statistic, r.chi.dof, r.accepted / (1 << 18), r.worst_pdf,
-                  r.worst_weight);
+      std::printf(
+          "microfacet alpha %.2f theta_o %2.0f: p = %.3g (chi2 %.1f, dof %d), accepted %.4f, "
+          "max rel pdf err %.2g, weight err %.2g\n",
+          alpha, theta, r.chi.p_value, r.chi.statistic, r.chi.dof, r.accepted / (1 << 18), r.worst_pdf, r.worst_weight);
       SCOPED_TRACE(testing::Message() << "alpha " << alpha << " theta_o " << theta);
       EXPECT_GT(r.chi.p_value, 1e-3 / 9) << r.chi.summary;
       double bound = 1e-5 + 4.0 * 0x1p-23 / (double(alpha) * alpha);
@@ -604,7 +622,10 @@ bool lane_set(vbool4 m, size_t j) { return (movemask(m) >> j) & 1u; }
 struct RandomInputs {
   std::mt19937 rng;
   float uniform(float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); }
-  float u() { int r = int(rng() % 16); return r == 0 ? 0.0f : r == 1 ? kBelowOne : uniform(0.0f, 1.0f); }
+  float u() {
+    int r = int(rng() % 16);
+    return r == 0 ? 0.0f : r == 1 ? kBelowOne : uniform(0.0f, 1.0f);
+  }
   V3 direction(float z_min) {
     int r = int(rng() % 16);
     double z = r == 0 ? 1.0 : r == 1 ? 1e-6 : uniform(z_min, 1.0f), phi = uniform(0.0f, 6.2831853f);
@@ -649,7 +670,8 @@ TEST(BsdfSimd, LanesGiveTheFloatInstantiationsBits) {
       MicrofacetEvalT<float> e = eval_microfacet(m[j], wo[j], wi[j], course);
       ASSERT_TRUE(same3(eb.f, j, e.f));
       ASSERT_EQ(bits(lane_of(eb.pdf, j)), bits(e.pdf));
-      DeltaScatterT<float> d = scatter_dielectric(wo[j], frontf[j] > 0.5f, ior[j], refl[j], trans[j], u1[j], reflects, course);
+      DeltaScatterT<float> d =
+          scatter_dielectric(wo[j], frontf[j] > 0.5f, ior[j], refl[j], trans[j], u1[j], reflects, course);
       ASSERT_TRUE(same3(db.wi, j, d.wi) && same3(db.weight, j, d.weight));
       ASSERT_EQ(lane_set(db.ok, j), d.ok);
     }

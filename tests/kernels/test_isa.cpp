@@ -90,12 +90,8 @@ TEST(Isa, DetectionAgreesWithTheCompilersCpuModel) {
   EXPECT_EQ(cpu_supports(Isa::kAvx512), __builtin_cpu_supports("x86-64-v4") != 0);
   EXPECT_FALSE(cpu_supports(Isa::kNeon));
   xsimd::detail::supported_arch xs = xsimd::available_architectures();
-  if (cpu_supports(Isa::kAvx2)) {
-    EXPECT_TRUE(xs.avx2 && xs.fma3_avx2);
-  }
-  if (cpu_supports(Isa::kAvx512)) {
-    EXPECT_TRUE(xs.avx512f && xs.avx512bw && xs.avx512cd && xs.avx512dq);
-  }
+  if (cpu_supports(Isa::kAvx2)) { EXPECT_TRUE(xs.avx2 && xs.fma3_avx2); }
+  if (cpu_supports(Isa::kAvx512)) { EXPECT_TRUE(xs.avx512f && xs.avx512bw && xs.avx512cd && xs.avx512dq); }
 #endif
 }
 

@@ -60,7 +60,11 @@ void light_coordinates(const AreaLight& l, const float3& q, double& s, double& t
   }
   double aa = 0, ab = 0, bb = 0, ar = 0, br = 0;
   for (int i = 0; i < 3; ++i) {
-    aa += a[i] * a[i]; ab += a[i] * b[i]; bb += b[i] * b[i]; ar += a[i] * r[i]; br += b[i] * r[i];
+    aa += a[i] * a[i];
+    ab += a[i] * b[i];
+    bb += b[i] * b[i];
+    ar += a[i] * r[i];
+    br += b[i] * r[i];
   }
   double det = aa * bb - ab * ab;
   s = (ar * bb - br * ab) / det + 0.5;
@@ -167,8 +171,8 @@ TEST(SkyLightSampling, UniformOverTheUpperHemisphere) {
     Vec3T<float> wi = sample_sky_direction(u1, u2);
     h.add(wi.x, wi.z, wi.y);
   }
-  test::ChiSquareResult r = test::chi_square_test(
-      h.counts(), h.expected(kSamples, [](double z0, double z1, double p0, double p1) {
+  test::ChiSquareResult r =
+      test::chi_square_test(h.counts(), h.expected(kSamples, [](double z0, double z1, double p0, double p1) {
         return (z1 - z0) * (p1 - p0) / (2 * std::numbers::pi);
       }));
   EXPECT_GT(r.p_value, kAlpha) << r.summary;

@@ -49,10 +49,9 @@ ChiSquareResult chi_square_of(Warp warp, double z_min, uint32_t seed,
 // directions crowd the pole; phi over [0, pi) only; the full sphere (z from
 // 2 u - 1, which fills the overflow bin); the cosine warp's radius sqrt(u).
 TEST(UniformHemisphere, ChiSquareAgainstItsStatedDensity) {
-  ChiSquareResult r = chi_square_of([](float a, float b) { return sample_uniform_hemisphere(a, b); }, 0.0, 1,
-                                    [](double z0, double z1, double p0, double p1) {
-                                      return (z1 - z0) * (p1 - p0) / (2 * kPi);
-                                    });
+  ChiSquareResult r =
+      chi_square_of([](float a, float b) { return sample_uniform_hemisphere(a, b); }, 0.0, 1,
+                    [](double z0, double z1, double p0, double p1) { return (z1 - z0) * (p1 - p0) / (2 * kPi); });
   EXPECT_GT(r.p_value, kAlpha) << r.summary;
 }
 
@@ -60,30 +59,27 @@ TEST(UniformHemisphere, ChiSquareAgainstItsStatedDensity) {
 // the disk radius u instead of sqrt(u) (Malley's method then favours the pole);
 // z = 1 - u instead of sqrt(1 - u); a uniform warp; phi over half the circle.
 TEST(CosineHemisphere, ChiSquareAgainstItsStatedDensity) {
-  ChiSquareResult r = chi_square_of([](float a, float b) { return sample_cosine_hemisphere(a, b); }, 0.0, 2,
-                                    [](double z0, double z1, double p0, double p1) {
-                                      return (z1 * z1 - z0 * z0) / 2 * (p1 - p0) / kPi;
-                                    });
+  ChiSquareResult r = chi_square_of(
+      [](float a, float b) { return sample_cosine_hemisphere(a, b); }, 0.0, 2,
+      [](double z0, double z1, double p0, double p1) { return (z1 * z1 - z0 * z0) / 2 * (p1 - p0) / kPi; });
   EXPECT_GT(r.p_value, kAlpha) << r.summary;
 }
 
 // Stated pdf 1 / (4 pi) over z in [-1, 1]. Catches a hemisphere-only or
 // pole-crowding warp, as above.
 TEST(UniformSphere, ChiSquareAgainstItsStatedDensity) {
-  ChiSquareResult r = chi_square_of([](float a, float b) { return sample_uniform_sphere(a, b); }, -1.0, 3,
-                                    [](double z0, double z1, double p0, double p1) {
-                                      return (z1 - z0) * (p1 - p0) / (4 * kPi);
-                                    });
+  ChiSquareResult r =
+      chi_square_of([](float a, float b) { return sample_uniform_sphere(a, b); }, -1.0, 3,
+                    [](double z0, double z1, double p0, double p1) { return (z1 - z0) * (p1 - p0) / (4 * kPi); });
   EXPECT_GT(r.p_value, kAlpha) << r.summary;
 }
 
 // The chi-square test itself must reject a wrong warp at this sample size:
 // cosine-weighted samples tested against the uniform density.
 TEST(SamplerChiSquare, RejectsAWrongDensity) {
-  ChiSquareResult r = chi_square_of([](float a, float b) { return sample_cosine_hemisphere(a, b); }, 0.0, 4,
-                                    [](double z0, double z1, double p0, double p1) {
-                                      return (z1 - z0) * (p1 - p0) / (2 * kPi);
-                                    });
+  ChiSquareResult r =
+      chi_square_of([](float a, float b) { return sample_cosine_hemisphere(a, b); }, 0.0, 4,
+                    [](double z0, double z1, double p0, double p1) { return (z1 - z0) * (p1 - p0) / (2 * kPi); });
   EXPECT_LT(r.p_value, kAlpha) << r.summary;
 }
 

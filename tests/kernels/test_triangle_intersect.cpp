@@ -165,7 +165,8 @@ TEST(TriangleIntersect, BothTestsAgreeWithTheConstructionOnRandomInteriorHits) {
   std::uniform_real_distribution<float> coord(-10.0f, 10.0f), bary(0.05f, 0.9f);
   int checked = 0;
   for (int i = 0; i < 20000; ++i) {
-    Triangle tri{{coord(rng), coord(rng), coord(rng)}, {coord(rng), coord(rng), coord(rng)},
+    Triangle tri{{coord(rng), coord(rng), coord(rng)},
+                 {coord(rng), coord(rng), coord(rng)},
                  {coord(rng), coord(rng), coord(rng)}};
     float u = bary(rng), v = bary(rng);
     if (u + v > 0.95f) continue;
@@ -202,8 +203,8 @@ Mesh uv_sphere(int stacks, int slices) {
     double theta = M_PI * i / stacks;
     for (int j = 0; j < slices; ++j) {
       double phi = 2 * M_PI * j / slices;
-      m.positions.push_back({float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
-                             float(std::sin(theta) * std::sin(phi))});
+      m.positions.push_back(
+          {float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)), float(std::sin(theta) * std::sin(phi))});
     }
   }
   m.positions.push_back({0, -1, 0});

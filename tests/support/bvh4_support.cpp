@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <map>
 
-
 namespace pt::test {
 
 std::vector<Hit> closest_hits(const SceneBvh2& oracle, const std::vector<Ray>& rays) {
@@ -15,7 +14,9 @@ std::vector<Hit> closest_hits(const SceneBvh2& oracle, const std::vector<Ray>& r
   return hits;
 }
 
-float scene_scale(const Scene& s) { return std::max(max_component(abs(s.bounds.lower)), max_component(abs(s.bounds.upper))); }
+float scene_scale(const Scene& s) {
+  return std::max(max_component(abs(s.bounds.lower)), max_component(abs(s.bounds.upper)));
+}
 
 ::testing::AssertionResult same_closest_hit(const Hit& e, const Hit& a, float scale) {
   auto describe = [](const Hit& h) {
@@ -38,11 +39,11 @@ float scene_scale(const Scene& s) { return std::max(max_component(abs(s.bounds.l
 Scene tessellated_sphere(int levels, float3 c, float r) {
   Scene s;
   const float g = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  s.positions = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                 {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-  s.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+  s.positions = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                 {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+  s.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                  {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (float3& p : s.positions) p = normalize(p);
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;

@@ -15,8 +15,7 @@ MeanError film_channel_mean(const Film& film, int channel) {
   return mean_and_error(v);
 }
 
-void expect_film_estimates(const Film& film, const float3& expected, const std::string& what,
-                           double detectable_bias) {
+void expect_film_estimates(const Film& film, const float3& expected, const std::string& what, double detectable_bias) {
   for (int c = 0; c < 3; ++c) {
     if (expected[c] == 0.0f) {
       for (const float3& p : film.radiance) ASSERT_EQ(p[c], 0.0f) << what << ", channel " << c << " must be black";
@@ -28,8 +27,8 @@ void expect_film_estimates(const Film& film, const float3& expected, const std::
       continue;
     }
     EXPECT_LT(std::fabs(z_score(m, expected[c])), kZ5)
-        << what << ", channel " << c << ": mean " << m.mean << " +- " << m.standard_error << " vs exact "
-        << expected[c] << " (z = " << z_score(m, expected[c]) << ")";
+        << what << ", channel " << c << ": mean " << m.mean << " +- " << m.standard_error << " vs exact " << expected[c]
+        << " (z = " << z_score(m, expected[c]) << ")";
     EXPECT_LE(m.standard_error, detectable_bias / (kZ5 + kZ95) * expected[c])
         << what << ", channel " << c << ": standard error " << m.standard_error / expected[c]
         << " of the expected value, too large to see a bias of " << detectable_bias;

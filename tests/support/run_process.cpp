@@ -98,7 +98,7 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
   close(out_pipe[0]);
   close(err_pipe[0]);
   int status = 0;
-  struct rusage usage{};
+  struct rusage usage {};
   while (wait4(pid, &status, 0, &usage) < 0) {
     if (errno != EINTR) return r;  // exit_code stays -1: not "exited 0"
   }

@@ -11,9 +11,9 @@
 namespace pt::test {
 
 struct ProcessResult {
-  int exit_code = -1;      ///< exit status, or 128 + signal number
-  bool timed_out = false;  ///< killed after the time limit
-  std::string out, err;    ///< everything written to stdout and stderr
+  int exit_code = -1;         ///< exit status, or 128 + signal number
+  bool timed_out = false;     ///< killed after the time limit
+  std::string out, err;       ///< everything written to stdout and stderr
   size_t peak_rss_bytes = 0;  ///< the child's maximum resident set size (wait4)
 };
 
@@ -23,8 +23,8 @@ struct ProcessResult {
 /// `interrupt_after_seconds` > 0 the child gets SIGINT after that long.
 /// The tests' one way to run a program.
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
-                          const std::filesystem::path& cwd, double timeout_seconds,
-                          size_t memory_limit_bytes = 0, double interrupt_after_seconds = 0);
+                          const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes = 0,
+                          double interrupt_after_seconds = 0);
 
 /// The lines of `text` (the last one without its '\n'); "" has none.
 std::vector<std::string> lines_of(const std::string& text);

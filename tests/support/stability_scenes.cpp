@@ -46,10 +46,10 @@ Scene floor_with_degenerate_triangles() {
   Scene s = floor_only();
   uint32_t grey = s.triangle_material[0];
   uint32_t base = static_cast<uint32_t>(s.positions.size());
-  const float3 points[] = {{0.2f, 0.1f, 0.2f}, {0.2f, 0.1f, 0.2f}, {0.2f, 0.1f, 0.2f},     // one point
-                           {-0.5f, 0.1f, 0}, {0, 0.1f, 0}, {0.5f, 0.1f, 0},                // a line
+  const float3 points[] = {{0.2f, 0.1f, 0.2f},   {0.2f, 0.1f, 0.2f},  {0.2f, 0.1f, 0.2f},        // one point
+                           {-0.5f, 0.1f, 0},     {0, 0.1f, 0},        {0.5f, 0.1f, 0},           // a line
                            {-0.5f, 0.05f, 0.3f}, {0.5f, 0.05f, 0.3f}, {0, 0.05f, 0.3f + 1e-7f},  // a needle
-                           {-0.3f, 0.2f, -0.3f}, {0.3f, 0.2f, -0.3f}, {0, 0.2f, -0.6f}};  // zero normals
+                           {-0.3f, 0.2f, -0.3f}, {0.3f, 0.2f, -0.3f}, {0, 0.2f, -0.6f}};         // zero normals
   for (int i = 0; i < 12; ++i) {
     s.positions.push_back(points[i]);
     s.normals.push_back(i < 9 ? normalize(float3{0.1f, 1.0f, 0.0f}) : float3(0.0f));
@@ -83,7 +83,6 @@ Scene scaled_scene(const Scene& scene, float k) {
   s.bounds = compute_scene_bounds(s);
   return s;
 }
-
 
 namespace {
 

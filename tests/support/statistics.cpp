@@ -73,7 +73,10 @@ ChiSquareResult chi_square_test(std::span<const double> observed, std::span<cons
     double d = observed[i] - expected[i], contribution = d * d / expected[i];
     r.statistic += contribution;
     ++bins;
-    if (contribution > worst) { worst = contribution; worst_bin = i; }
+    if (contribution > worst) {
+      worst = contribution;
+      worst_bin = i;
+    }
   }
   if (pooled_exp > 0.0) {
     double d = pooled_obs - pooled_exp;
@@ -84,8 +87,8 @@ ChiSquareResult chi_square_test(std::span<const double> observed, std::span<cons
   r.p_value = impossible ? 0.0 : (r.dof > 0 ? chi_square_tail(r.statistic, r.dof) : 1.0);
   std::ostringstream s;
   s << "chi2 = " << r.statistic << " with " << r.dof << " dof, p = " << r.p_value
-    << (impossible ? " (samples in a bin of expected count 0)" : "") << "; worst bin " << worst_bin
-    << ": observed " << observed[worst_bin] << ", expected " << expected[worst_bin];
+    << (impossible ? " (samples in a bin of expected count 0)" : "") << "; worst bin " << worst_bin << ": observed "
+    << observed[worst_bin] << ", expected " << expected[worst_bin];
   r.summary = s.str();
   return r;
 }

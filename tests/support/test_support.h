@@ -30,7 +30,7 @@ const std::vector<std::string>& shared_scene_names();
 }  // namespace pt::test
 
 /// Skips the current test when the public scenes are absent.
-#define PT_REQUIRE_SHARED_SCENES()                                                \
-  do {                                                                            \
+#define PT_REQUIRE_SHARED_SCENES()                                                  \
+  do {                                                                              \
     if (!::pt::test::shared_scenes_available()) GTEST_SKIP() << "../shared absent"; \
   } while (0)
