@@ -11,7 +11,7 @@
 #include "kernels/render/pixel_accumulator.h"
 #include "kernels/transport/camera_sample.h"
 #include "kernels/render/sample_schedule.h"
-#include "reference_integrator.h"
+#include "kernels/transport/path_integrator.h"
 
 namespace pt::reference {
 namespace {
@@ -29,7 +29,7 @@ RenderOutput render_reference(const Scene& scene, const Camera& camera, const Re
 RenderOutput render_reference(const Scene& scene, const SceneBvh2& accel, const Camera& camera,
                               const RenderSettings& rs, const RenderControl& control) {
   auto start = std::chrono::steady_clock::now();
-  ReferenceIntegrator integrator(scene, accel, rs);
+  const PathIntegrator<SceneBvh2> integrator(scene, rs, accel);
   RenderOutput out;
   Region region = rs.area();
   const uint32_t spp = static_cast<uint32_t>(rs.samples_per_pixel);

@@ -1,8 +1,8 @@
 // The reference engine: pixels in 16x16 tiles over oneTBB threads, each pixel
 // sampled in order (with the assignment's adaptive stopping rule), one path at
-// a time through ReferenceIntegrator, tracing with the midpoint BVH2 or brute
-// force. Compiled once (scalar code): it is the arbiter of the SIMD engines at
-// every instruction-set level.
+// a time through the one-path loop (kernels/transport/path_integrator.h),
+// tracing with the midpoint BVH2 or brute force. Compiled once (scalar code):
+// it is the arbiter of the SIMD engines at every instruction-set level.
 #pragma once
 
 #include "kernels/render/render_job.h"
