@@ -18,14 +18,10 @@
 
 namespace pt::bvh4_queries {
 
-template <class C>
-inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit, C& c) {
-  const Bvh4& bvh = s.bvh();
-  bool found = bvh.form == TriangleForm::kWatertight ? bvh4_intersect<TriangleForm::kWatertight>(bvh, ray, hit, c)
-                                                     : bvh4_intersect<TriangleForm::kMollerTrumbore>(bvh, ray, hit, c);
-  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
-  if (spheres.empty() || !ray_is_traceable(ray)) return found;
-  c.primitives_tested(static_cast<uint32_t>(spheres.size()));
+/// The spheres (tested outside the BVH, one by one): the closest within
+/// [tmin, hit.t) replaces `hit`. Whether one did.
+inline bool closest_sphere(std::span<const SceneBvh4::SphereShape> spheres, const Ray& ray, Hit& hit) {
+  bool found = false;
   for (uint32_t i = 0; i < spheres.size(); ++i) {
     float t;
     if (!intersect_sphere(ray.org, ray.dir, ray.tmin, hit.t, spheres[i].center, spheres[i].radius, t)) continue;
@@ -35,15 +31,32 @@ inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit, C& c) {
   return found;
 }
 
+/// Whether a sphere lies on the ray within [tmin, tmax).
+inline bool any_sphere(std::span<const SceneBvh4::SphereShape> spheres, const Ray& ray) {
+  for (const SceneBvh4::SphereShape& sp : spheres) {
+    float t;
+    if (intersect_sphere(ray.org, ray.dir, ray.tmin, ray.tmax, sp.center, sp.radius, t)) return true;
+  }
+  return false;
+}
+
+template <class C>
+inline bool intersect(const SceneBvh4& s, const Ray& ray, Hit& hit, C& c) {
+  const Bvh4& bvh = s.bvh();
+  bool found = bvh.form == TriangleForm::kWatertight ? bvh4_intersect<TriangleForm::kWatertight>(bvh, ray, hit, c)
+                                                     : bvh4_intersect<TriangleForm::kMollerTrumbore>(bvh, ray, hit, c);
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  if (spheres.empty() || !ray_is_traceable(ray)) return found;
+  c.primitives_tested(static_cast<uint32_t>(spheres.size()));
+  return closest_sphere(spheres, ray, hit) || found;
+}
+
 template <class C>
 inline bool occluded(const SceneBvh4& s, const Ray& ray, C& c) {
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   if (!spheres.empty() && ray_is_traceable(ray)) {
     c.primitives_tested(static_cast<uint32_t>(spheres.size()));
-    for (const SceneBvh4::SphereShape& sp : spheres) {
-      float t;
-      if (intersect_sphere(ray.org, ray.dir, ray.tmin, ray.tmax, sp.center, sp.radius, t)) return true;
-    }
+    if (any_sphere(spheres, ray)) return true;
   }
   const Bvh4& bvh = s.bvh();
   return bvh.form == TriangleForm::kWatertight ? bvh4_occluded<TriangleForm::kWatertight>(bvh, ray, c)
@@ -71,14 +84,7 @@ inline uint32_t occluded_packet(const SceneBvh4& s, const Ray* rays, uint32_t la
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   for (uint32_t m = spheres.empty() ? 0 : lanes; m != 0; m &= m - 1) {  // spheres first, per lane
     const Ray& r = rays[std::countr_zero(m)];
-    if (!ray_is_traceable(r)) continue;
-    for (const SceneBvh4::SphereShape& sp : spheres) {
-      float t;
-      if (intersect_sphere(r.org, r.dir, r.tmin, r.tmax, sp.center, sp.radius, t)) {
-        blocked |= 1u << std::countr_zero(m);
-        break;
-      }
-    }
+    if (ray_is_traceable(r) && any_sphere(spheres, r)) blocked |= 1u << std::countr_zero(m);
   }
   RayPacket p = load_ray_packet(rays, lanes & ~blocked);
   return blocked | (p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p));
@@ -102,12 +108,7 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
     Hit& hit = hits[i];
     uint32_t id = static_cast<uint32_t>(l.prim[i]);
     hit = id != kInvalidId ? Hit{l.t[i], l.u[i], l.v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
-    if (spheres.empty() || !(p.active >> i & 1)) continue;
-    for (uint32_t k = 0; k < spheres.size(); ++k) {
-      float ts;
-      if (intersect_sphere(rays[i].org, rays[i].dir, rays[i].tmin, hit.t, spheres[k].center, spheres[k].radius, ts))
-        hit = {ts, 0.0f, 0.0f, sphere_prim_id(k)};
-    }
+    if (!spheres.empty() && (p.active >> i & 1)) closest_sphere(spheres, rays[i], hit);
   }
 }
 

@@ -61,4 +61,20 @@ inline void push_ray_lanes(uint32_t mask, RayQueue& q, const Vec3T<vfloatK>& org
                         .path = path});
 }
 
+/// The paths of the lanes in `mask` go on: each one's throughput becomes
+/// `beta` and the pdf of its BSDF sample `pdf` (negative for a delta lobe:
+/// no MIS), and its ray from `org` along `dir` joins `q`.
+inline void continue_paths(uint32_t mask, PathState& paths, vuintK path, const Vec3T<vfloatK>& beta, vfloatK pdf,
+                           RayQueue& q, const Vec3T<vfloatK>& org, const Vec3T<vfloatK>& dir) {
+  LaneFloats br(beta.x), bg(beta.y), bb(beta.z), p(pdf);
+  LaneUints path_of(path);
+  for_each_lane(mask, [&](size_t l) {
+    paths.beta_r[path_of[l]] = br[l];
+    paths.beta_g[path_of[l]] = bg[l];
+    paths.beta_b[path_of[l]] = bb[l];
+    paths.bsdf_pdf[path_of[l]] = p[l];
+  });
+  push_ray_lanes(mask, q, org, dir, path);
+}
+
 }  // namespace pt::wf

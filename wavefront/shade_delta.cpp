@@ -42,16 +42,8 @@ void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, cons
     uint32_t mask = lane_mask(s.hit && d.ok && ((above && up) || !(above || up)));
     if (!mask) continue;
     V3 beta = times(gather3(paths.beta_r, paths.beta_g, paths.beta_b, path), d.weight);
-    LaneFloats br(beta.x), bg(beta.y), bb(beta.z);
-    LaneUints path_of(xsimd::bitwise_cast<vuintK>(path));
-    for_each_lane(mask, [&](size_t l) {
-      paths.beta_r[path_of[l]] = br[l];
-      paths.beta_g[path_of[l]] = bg[l];
-      paths.beta_b[path_of[l]] = bb[l];
-      paths.bsdf_pdf[path_of[l]] = -1.0f;  // delta
-    });
-    push_ray_lanes(mask, out.continuations, offset_origin(s.p, s.ng, s.offset, wi), wi,
-                   xsimd::bitwise_cast<vuintK>(path));
+    continue_paths(mask, paths, xsimd::bitwise_cast<vuintK>(path), beta, vfloatK(-1.0f), out.continuations,
+                   offset_origin(s.p, s.ng, s.offset, wi), wi);
   }
 }
 

@@ -84,16 +84,8 @@ void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
   BsdfSampleT<vfloatK> bs = sample_lambertian(c.point, c.ps, c.vertex);
   uint32_t mask = lane_mask(bs.ok);
   if (!mask) return;
-  LaneFloats br(c.beta.x * c.albedo.x), bg(c.beta.y * c.albedo.y), bb(c.beta.z * c.albedo.z);
-  LaneFloats pdf(bs.pdf);
-  LaneUints path(c.path);
-  for_each_lane(mask, [&](size_t l) {
-    paths.beta_r[path[l]] = br[l];
-    paths.beta_g[path[l]] = bg[l];
-    paths.beta_b[path[l]] = bb[l];
-    paths.bsdf_pdf[path[l]] = pdf[l];
-  });
-  push_ray_lanes(mask, q, offset_origin(c.point.p, c.point.ng, c.point.offset, bs.wi), bs.wi, c.path);
+  continue_paths(mask, paths, c.path, times(c.beta, c.albedo), bs.pdf, q,
+                 offset_origin(c.point.p, c.point.ng, c.point.offset, bs.wi), bs.wi);
 }
 
 }  // namespace

@@ -61,16 +61,8 @@ void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& ra
     V3 wi = to_world(s.ns.x, s.ns.y, s.ns.z, ms.wi.x, ms.wi.y, ms.wi.z);
     uint32_t mask = lane_mask(s.hit && ms.ok && dot3(wi, s.ng) > vfloatK(0.0f));
     if (!mask) continue;
-    V3 next = times(beta, ms.weight);
-    LaneFloats br(next.x), bg(next.y), bb(next.z), pdf(ms.pdf);
-    LaneUints path_of(path_u);
-    for_each_lane(mask, [&](size_t l) {
-      paths.beta_r[path_of[l]] = br[l];
-      paths.beta_g[path_of[l]] = bg[l];
-      paths.beta_b[path_of[l]] = bb[l];
-      paths.bsdf_pdf[path_of[l]] = pdf[l];
-    });
-    push_ray_lanes(mask, out.continuations, offset_origin(s.p, s.ng, s.offset, wi), wi, path_u);
+    continue_paths(mask, paths, path_u, times(beta, ms.weight), ms.pdf, out.continuations,
+                   offset_origin(s.p, s.ng, s.offset, wi), wi);
   }
 }
 

@@ -58,7 +58,7 @@ struct RenderSettings {
   ShadingMode shading = ShadingMode::kPathTrace;
   uint32_t seed = 0;
   int threads = 1;
-  std::optional<Region> region;      ///< -p: render only this region
+  std::optional<Region> region{};    ///< -p: render only this region
   bool cs184_light_quirk = false;    ///< area lights look as the course renderer shows them
   bool cs184_invisible_sky = false;  ///< escaped rays see no sky (course renderer)
   bool cs184_light_pdf = false;      ///< area-light samples weighted by their distance (course renderer's pdf)
