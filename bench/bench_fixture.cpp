@@ -3,6 +3,9 @@
 
 #include <cmath>
 
+#include <oneapi/tbb/enumerable_thread_specific.h>
+
+#include "captured_queues.h"
 #include "ray_driver.h"
 
 namespace pt::bench {
@@ -22,32 +25,35 @@ bool same_hit(const Hit& e, const Hit& a, float scale) {
 /// 10000, at least 2. Every tracer's count is reported.
 size_t allowed_mismatches(size_t n) { return std::max<size_t>(2, n / 10000); }
 
+/// The queue tracer's outputs on one thread.
+struct QueueOutputs {
+  QueueScratch scratch;
+  std::vector<float> t, u, v;
+  std::vector<uint32_t> prim;
+};
+
 }  // namespace
 
-void run_tracer(const TracerEntry& t, RayKind kind, size_t n, int threads, Hit* hits, uint8_t* blocked) {
-  if (t.whole_set) arena_of(threads).execute([&] { t.trace(kind, 0, n, hits, blocked); });
-  else run_chunks(n, threads, [&](size_t b, size_t e) { t.trace(kind, b, e, hits, blocked); });
+void run_tracer(const TracerEntry& t, const RaySet& rays, int set, size_t n, int threads, Hit* hits, uint8_t* blocked) {
+  if (t.whole_set) arena_of(threads).execute([&] { t.trace(set, 0, n, hits, blocked); });
+  else run_queues(rays.queue_ends, n, threads, [&](size_t b, size_t e) { t.trace(set, b, e, hits, blocked); });
 }
 
 SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions& options)
     : label_(std::move(label)), scene_(std::move(scene)) {
   bvh4_ = std::make_unique<SceneBvh4>(scene_, options.bvh4);
-  sets_[0] = primary_rays(scene_, options.width, options.height);
-  std::vector<Hit> first(sets_[0].rays.size());
-  run_chunks(first.size(), 2, [&](size_t b, size_t e) {
-    for (size_t i = b; i < e; ++i) bvh4_->intersect(sets_[0].rays[i], first[i]);
-  });
-  sets_[1] = {RayKind::kDiffuse, diffuse_rays(scene_, sets_[0].rays, first, 1, /*shuffle=*/true)};
-  sets_[2] = {RayKind::kShadow, shadow_rays(scene_, sets_[0].rays, first, 2, /*shuffle=*/true)};
+  make_sets(options);
   bvh2_ = std::make_unique<SceneBvh2>(scene_, Bvh2Mode::kMidpoint);
-  for (int k = 0; k < 3; ++k) {
+  oracle_hits_.resize(sets_.size());
+  oracle_blocked_.resize(sets_.size());
+  for (size_t k = 0; k < sets_.size(); ++k) {
     const std::vector<Ray>& rays = sets_[k].rays;
     oracle_hits_[k].resize(rays.size());
     oracle_blocked_[k].resize(rays.size());
     run_chunks(rays.size(), 2, [&](size_t b, size_t e) {
       uint64_t tests = 0;
       for (size_t i = b; i < e; ++i) {
-        if (sets_[k].occlusion()) oracle_blocked_[k][i] = bvh2_->occluded(rays[i], tests);
+        if (sets_[k].occlusion) oracle_blocked_[k][i] = bvh2_->occluded(rays[i], tests);
         else bvh2_->intersect(rays[i], oracle_hits_[k][i], tests);
       }
     });
@@ -57,24 +63,62 @@ SceneFixture::SceneFixture(std::string label, Scene scene, const FixtureOptions&
 
 SceneFixture::~SceneFixture() = default;
 
+void SceneFixture::make_sets(const FixtureOptions& options) {
+  sets_.push_back(primary_rays(scene_, options.width, options.height));
+  const std::vector<Ray>& primary = sets_[0].rays;
+  std::vector<Hit> first(primary.size());
+  run_chunks(first.size(), 2, [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) bvh4_->intersect(primary[i], first[i]);
+  });
+  sets_.push_back(ray_set("diffuse", false, diffuse_rays(scene_, primary, first, 1)));
+  sets_.push_back(ray_set("shadow", true, shadow_rays(scene_, primary, first, 2)));
+  sets_.push_back(ray_set("diffuse_shuffled", false, diffuse_rays(scene_, primary, first, 1, /*shuffle=*/true)));
+  sets_.push_back(ray_set("shadow_shuffled", true, shadow_rays(scene_, primary, first, 2, /*shuffle=*/true)));
+  if (options.captured) {
+    CapturedQueues q = capture_queues(scene_, *bvh4_);
+    sets_.push_back(std::move(q.bounce));
+    sets_.push_back(std::move(q.shadow));
+  }
+}
+
+int SceneFixture::set_index(const std::string& name) const {
+  for (size_t k = 0; k < sets_.size(); ++k)
+    if (sets_[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
+RayArrays SceneFixture::arrays(int set, size_t b, size_t e) const {
+  const std::array<std::vector<float>, 8>& a = arrays_[set];
+  RayArrays r;
+  for (int k = 0; k < 3; ++k) {
+    r.org[k] = a[k].data() + b;
+    r.dir[k] = a[4 + k].data() + b;
+  }
+  r.tmin = a[3].data() + b;
+  r.tmax = a[7].data() + b;
+  r.size = e - b;
+  return r;
+}
+
 void SceneFixture::add_tracers(const FixtureOptions& options) {
   tracers_.push_back({"bvh4", each_ray(*bvh4_)});
-  TracerEntry packets{"bvh4_packet", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t*) {
-                        bvh4_->intersect(std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b),
+  add_queue_tracer();
+  TracerEntry packets{"bvh4_packet", [this](int set, size_t b, size_t e, Hit* hits, uint8_t*) {
+                        bvh4_->intersect(std::span<const Ray>(sets_[set].rays).subspan(b, e - b),
                                          std::span<Hit>(hits + b, e - b));
                       }};
-  packets.primary_only = true;
+  packets.coherent_only = true;
   tracers_.push_back(packets);
   incoherent_ = std::make_unique<IncoherentBatches>(*bvh4_, scene_);
-  TracerEntry incoherent{"bvh4_incoherent", [this](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
-                           std::span<const Ray> rays = std::span<const Ray>(sets_[int(kind)].rays).subspan(b, e - b);
-                           if (kind == RayKind::kShadow)
+  TracerEntry incoherent{"bvh4_incoherent", [this](int set, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+                           std::span<const Ray> rays = std::span<const Ray>(sets_[set].rays).subspan(b, e - b);
+                           if (sets_[set].occlusion)
                              incoherent_->occluded(rays, std::span<uint8_t>(blocked + b, e - b));
                            else incoherent_->intersect(rays, std::span<Hit>(hits + b, e - b));
                          }};
   incoherent.whole_set = true;
   tracers_.push_back(incoherent);
-  Bvh4Options watertight;
+  Bvh4Options watertight = options.bvh4;
   watertight.watertight = true;
   bvh4_watertight_ = std::make_unique<SceneBvh4>(scene_, watertight);
   tracers_.push_back({"bvh4_watertight", each_ray(*bvh4_watertight_)});
@@ -82,6 +126,40 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
 #ifdef PT_HAVE_EMBREE
   add_embree_tracers();
 #endif
+}
+
+void SceneFixture::add_queue_tracer() {
+  for (const RaySet& set : sets_) {
+    std::array<std::vector<float>, 8>& a = arrays_.emplace_back();
+    for (std::vector<float>& f : a) f.resize(set.rays.size());
+    for (size_t i = 0; i < set.rays.size(); ++i) {
+      const Ray& r = set.rays[i];
+      const float f[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
+      for (int j = 0; j < 8; ++j) a[j][i] = f[j];
+    }
+  }
+  // The queue tracer writes its hits as arrays (its output); they become Hit
+  // records only for validation, outside the timed loop's work per ray.
+  auto outputs = std::make_shared<tbb::enumerable_thread_specific<QueueOutputs>>();
+  tracers_.push_back(
+      {"bvh4_queue", [this, outputs](int set, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+         QueueOutputs& q = outputs->local();
+         const RaySet& s = sets_[set];
+         size_t qi = std::upper_bound(s.queue_ends.begin(), s.queue_ends.end(), b) - s.queue_ends.begin();
+         for (size_t qb = b; qb < e; ++qi) {
+           const size_t qe = std::min(e, s.queue_ends[qi]);
+           const RayArrays rays = arrays(set, qb, qe);
+           if (s.occlusion) {
+             bvh4_->occluded(rays, blocked + qb, q.scratch);
+           } else {
+             const size_t n = qe - qb;
+             q.t.resize(n), q.u.resize(n), q.v.resize(n), q.prim.resize(n);
+             bvh4_->intersect(rays, HitArrays{q.t.data(), q.u.data(), q.v.data(), q.prim.data()}, q.scratch);
+             for (size_t i = 0; i < n; ++i) hits[qb + i] = Hit{q.t[i], q.u[i], q.v[i], q.prim[i]};
+           }
+           qb = qe;
+         }
+       }});
 }
 
 void SceneFixture::add_reference_tracers(const FixtureOptions& options) {
@@ -112,63 +190,68 @@ void SceneFixture::add_reference_tracers(const FixtureOptions& options) {
 
 #ifdef PT_HAVE_EMBREE
 void SceneFixture::add_embree_tracers() {
-  for (int k = 0; k < 3; ++k) embree_rays_[k] = convert_rays(sets_[k].rays, k == 0);
+  for (const RaySet& set : sets_) embree_rays_.push_back(convert_rays(set));
   embree_high_ = std::make_unique<EmbreeTracer>(scene_, RTC_BUILD_QUALITY_HIGH);
   embree_default_ = std::make_unique<EmbreeTracer>(scene_, RTC_BUILD_QUALITY_MEDIUM);
   for (auto [name, tracer] :
        {std::pair{"embree_high", embree_high_.get()}, {"embree_default", embree_default_.get()}}) {
-    EmbreeTracer* t = tracer;
-    tracers_.push_back(
-        {std::string(name) + "_single", [this, t](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
-           if (kind == RayKind::kShadow) t->occluded1(embree_rays_[int(kind)], b, e, blocked);
-           else t->intersect1(embree_rays_[int(kind)], b, e, hits);
-         }});
-  }
-  for (int width : {4, 8, 16}) {
-    EmbreeTracer* t = embree_high_.get();
-    TracerEntry e{"embree_high_packet" + std::to_string(width),
-                  [this, t, width](RayKind kind, size_t b, size_t e, Hit* hits, uint8_t*) {
-                    t->intersect_packets(embree_rays_[int(kind)], width, b, e, hits);
-                  }};
-    e.primary_only = true;
-    tracers_.push_back(e);
+    for (EmbreeMethod m : kEmbreeMethods) {
+      EmbreeTracer* t = tracer;
+      tracers_.push_back({std::string(name) + "_" + embree_method_name(m),
+                          [this, t, m](int set, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
+                            t->trace(m, embree_rays_[set], b, e, hits, blocked);
+                          }});
+    }
   }
 }
 #endif
 
-const std::string& SceneFixture::validate(const TracerEntry& t, RayKind kind) {
-  auto key = std::pair{t.name, int(kind)};
+const std::string& SceneFixture::validate(const TracerEntry& t, int set) {
+  auto key = std::pair{t.name, set};
   if (auto it = validated_.find(key); it != validated_.end()) return it->second.first;
-  const std::vector<Ray>& rays = sets_[int(kind)].rays;
-  size_t n = std::min(rays.size(), t.max_rays);
+  const RaySet& s = sets_[set];
+  size_t n = std::min(s.rays.size(), t.max_rays);
   std::vector<Hit> hits(n);
   std::vector<uint8_t> blocked(n);
-  run_tracer(t, kind, n, 2, hits.data(), blocked.data());
+  run_tracer(t, s, set, n, 2, hits.data(), blocked.data());
   size_t bad = 0;
   float scale = std::max(max_component(abs(scene_.bounds.lower)), max_component(abs(scene_.bounds.upper)));
   for (size_t i = 0; i < n; ++i)
-    bad += kind == RayKind::kShadow ? blocked[i] != oracle_blocked_[int(kind)][i]
-                                    : !same_hit(oracle_hits_[int(kind)][i], hits[i], scale);
+    bad += s.occlusion ? blocked[i] != oracle_blocked_[set][i] : !same_hit(oracle_hits_[set][i], hits[i], scale);
   std::string error;
   if (bad > allowed_mismatches(n))
     error = t.name + " disagrees with the reference BVH on " + std::to_string(bad) + " of " + std::to_string(n) + " " +
-            ray_kind_name(kind) + " rays of " + label_;
+            s.name + " rays of " + label_;
   return (validated_[key] = {error, bad}).first;
 }
 
-TraversalCounters SceneFixture::bvh4_work(RayKind kind, bool watertight) const {
+TraversalCounters SceneFixture::bvh4_work(int set, bool watertight, bool queue) const {
   const SceneBvh4& bvh = watertight ? *bvh4_watertight_ : *bvh4_;
+  const RaySet& s = sets_[set];
   TraversalCounters c;
-  for (const Ray& r : sets_[int(kind)].rays) {
+  if (queue) {
+    QueueOutputs q;
+    std::vector<uint8_t> blocked(s.rays.size());
+    size_t b = 0;
+    for (size_t e : s.queue_ends) {
+      const size_t n = e - b;
+      q.t.resize(n), q.u.resize(n), q.v.resize(n), q.prim.resize(n);
+      if (s.occlusion) bvh.occluded(arrays(set, b, e), blocked.data() + b, q.scratch, c);
+      else bvh.intersect(arrays(set, b, e), HitArrays{q.t.data(), q.u.data(), q.v.data(), q.prim.data()}, q.scratch, c);
+      b = e;
+    }
+    return c;
+  }
+  for (const Ray& r : s.rays) {
     Hit h;
-    if (kind == RayKind::kShadow) bvh.occluded(r, c);
+    if (s.occlusion) bvh.occluded(r, c);
     else bvh.intersect(r, h, c);
   }
   return c;
 }
 
-size_t SceneFixture::mismatches(const TracerEntry& t, RayKind kind) const {
-  auto it = validated_.find({t.name, int(kind)});
+size_t SceneFixture::mismatches(const TracerEntry& t, int set) const {
+  auto it = validated_.find({t.name, set});
   return it == validated_.end() ? 0 : it->second.second;
 }
 

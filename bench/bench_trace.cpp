@@ -1,11 +1,17 @@
 // bench_trace: the ray tracing benchmark (Google Benchmark, JSON with
-// --benchmark_out). Per scene and ray set (primary, diffuse, shadow), every
-// tracer in the same process on the same rays, 1 and 2 threads, as rays/s
-// counters: this BVH4 (single rays with Moller-Trumbore and watertight
-// leaves; packets of K rays on primary rays; the batch for incoherent
-// rays, which reorders rays on large scenes), the reference binary BVH, brute force on small scenes, and Embree 3
-// (single rays, and packets of 4/8/16 on primary rays) built with high and default quality; plus build times and
-// memory. Every tracer is validated ray by ray before it is timed.
+// --benchmark_out). Per scene, every tracer in the same process on the same
+// rays in the same order, 1 and 2 threads, as rays/s counters. Ray sets:
+// primary camera rays (Morton order); diffuse and shadow rays from their hits,
+// in the camera rays' order and shuffled; and the bounce and shadow queues of
+// depths 1-4 of a real wavefront render of the scene (captured_queues.h), in
+// the render's order and queues. Tracers: this BVH4 (single rays with
+// Moller-Trumbore and watertight leaves; the queue tracer over each queue;
+// packets of K rays on primary rays; sorted single rays for incoherent
+// batches), the reference binary BVH, brute force on small scenes, and
+// Embree 3 built with high and default quality, with every method it has
+// (single rays, packets of 4/8/16, streams of records and of arrays, with the
+// incoherent and the coherent flag). Plus build times and memory. Every
+// tracer is validated ray by ray before it is timed.
 //   bench_trace [--quick] [--export-rays DIR] [--collapse-costs=N,L,B,M] [--presplit=B] [benchmark flags]
 // --quick: two small scenes and fewer rays (a smoke run); --export-rays:
 // write every scene's triangles and ray sets for trace_rays, then exit;
@@ -30,7 +36,7 @@
 #include "bench_fixture.h"
 #include "bench_scenes.h"
 #include "ray_driver.h"
-#include "ray_files.h"
+#include "io/ray_files.h"
 
 namespace pt::bench {
 namespace {
@@ -67,28 +73,37 @@ SceneFixture* fixture(const SceneSpec& spec) {
   return (g_fixtures[spec.label] = std::move(f)).get();
 }
 
-void trace_benchmark(benchmark::State& state, SceneSpec spec, RayKind kind, std::string tracer, int threads) {
+/// The sets of every scene, in the fixture's order (the last two only when
+/// the render's queues are captured).
+const std::vector<std::string> kSetNames = {"primary",         "diffuse",       "shadow",       "diffuse_shuffled",
+                                            "shadow_shuffled", "bounce_queues", "shadow_queues"};
+
+void trace_benchmark(benchmark::State& state, SceneSpec spec, std::string set_name, std::string tracer, int threads) {
   SceneFixture* f = fixture(spec);
   if (!f) return state.SkipWithError(("scene file absent: " + spec.file).c_str());
+  const int set = f->set_index(set_name);
+  if (set < 0) return state.SkipWithError((set_name + " is not available").c_str());
   const TracerEntry* t = nullptr;
   for (const TracerEntry& e : f->tracers()) t = e.name == tracer ? &e : t;
   if (!t) return state.SkipWithError((tracer + " is not available").c_str());
-  if (const std::string& err = f->validate(*t, kind); !err.empty()) return state.SkipWithError(err.c_str());
-  size_t n = std::min(f->rays(kind).rays.size(), t->max_rays);
+  if (const std::string& err = f->validate(*t, set); !err.empty()) return state.SkipWithError(err.c_str());
+  const RaySet& rays = f->sets()[set];
+  size_t n = std::min(rays.rays.size(), t->max_rays);
   std::vector<Hit> hits(n);
   std::vector<uint8_t> blocked(n);
   for (auto _ : state) {
-    run_tracer(*t, kind, n, threads, hits.data(), blocked.data());
+    run_tracer(*t, rays, set, n, threads, hits.data(), blocked.data());
     benchmark::DoNotOptimize(hits.data());
     benchmark::DoNotOptimize(blocked.data());
   }
   state.counters["rays_per_s"] = benchmark::Counter(double(n) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["rays"] = double(n);
-  state.counters["mismatches"] = double(f->mismatches(*t, kind));
+  state.counters["queues"] = double(rays.queue_ends.size());
+  state.counters["mismatches"] = double(f->mismatches(*t, set));
   if (tracer.rfind("bvh4", 0) == 0) {
-    TraversalCounters c = f->bvh4_work(kind, tracer == "bvh4_watertight");
-    state.counters["nodes_per_ray"] = double(c.nodes) / f->rays(kind).rays.size();
-    state.counters["triangles_per_ray"] = double(c.primitives) / f->rays(kind).rays.size();
+    TraversalCounters c = f->bvh4_work(set, tracer == "bvh4_watertight", tracer == "bvh4_queue");
+    state.counters["nodes_per_ray"] = double(c.nodes) / rays.rays.size();
+    state.counters["triangles_per_ray"] = double(c.primitives) / rays.rays.size();
   }
 }
 
@@ -131,22 +146,20 @@ void build_embree_benchmark(benchmark::State& state, SceneSpec spec, RTCBuildQua
 }
 #endif
 
-std::vector<std::string> tracer_names(const SceneSpec& spec, RayKind kind) {
-  std::vector<std::string> names = {"bvh4", "bvh4_watertight", "bvh2_midpoint"};
-  if (kind == RayKind::kPrimary) names.push_back("bvh4_packet");
-  else names.push_back("bvh4_incoherent");
+std::vector<std::string> tracer_names(const SceneSpec& spec, const std::string& set) {
+  std::vector<std::string> names = {"bvh4", "bvh4_queue", "bvh4_watertight", "bvh2_midpoint", "bvh4_incoherent"};
+  if (set == "primary") names.push_back("bvh4_packet");
   if (spec.small) names.push_back("brute_force");
 #ifdef PT_HAVE_EMBREE
-  names.insert(names.end(), {"embree_high_single", "embree_default_single"});
-  if (kind == RayKind::kPrimary)
-    names.insert(names.end(), {"embree_high_packet4", "embree_high_packet8", "embree_high_packet16"});
+  for (const char* build : {"embree_high_", "embree_default_"})
+    for (EmbreeMethod m : kEmbreeMethods) names.push_back(build + std::string(embree_method_name(m)));
 #endif
   return names;
 }
 
 /// The targets compare this BVH4 and Embree at 1 and 2 threads; the others run on 1.
 bool runs_on_two_threads(const std::string& tracer) {
-  return (tracer.rfind("bvh4", 0) == 0 && tracer != "bvh4_watertight") || tracer.rfind("embree_high", 0) == 0;
+  return (tracer.rfind("bvh4", 0) == 0 && tracer != "bvh4_watertight") || tracer.rfind("embree", 0) == 0;
 }
 
 void register_benchmarks(const std::vector<SceneSpec>& specs) {
@@ -166,13 +179,12 @@ void register_benchmarks(const std::vector<SceneSpec>& specs) {
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
 #endif
-    for (RayKind kind : {RayKind::kPrimary, RayKind::kDiffuse, RayKind::kShadow})
-      for (const std::string& tracer : tracer_names(spec, kind))
+    for (const std::string& set : kSetNames)
+      for (const std::string& tracer : tracer_names(spec, set))
         for (int threads : {1, 2}) {
           if (threads == 2 && !runs_on_two_threads(tracer)) continue;
-          std::string name =
-              "trace/" + spec.label + "/" + ray_kind_name(kind) + "/" + tracer + "/threads:" + std::to_string(threads);
-          auto* b = benchmark::RegisterBenchmark(name.c_str(), trace_benchmark, spec, kind, tracer, threads);
+          std::string name = "trace/" + spec.label + "/" + set + "/" + tracer + "/threads:" + std::to_string(threads);
+          auto* b = benchmark::RegisterBenchmark(name.c_str(), trace_benchmark, spec, set, tracer, threads);
           b->Unit(benchmark::kMillisecond);
           // One thread: rates over the thread's CPU time, which other processes on a
           // shared machine do not inflate. Two threads: over wall-clock time.
@@ -187,8 +199,7 @@ int export_rays(const std::vector<SceneSpec>& specs, const std::filesystem::path
     SceneFixture* f = fixture(spec);
     if (!f) continue;
     write_triangle_file(dir / (spec.label + ".tris"), f->scene());
-    for (RayKind k : {RayKind::kPrimary, RayKind::kDiffuse, RayKind::kShadow})
-      write_ray_file(dir / (spec.label + "_" + ray_kind_name(k) + ".rays"), f->rays(k).rays);
+    for (const RaySet& set : f->sets()) write_ray_file(dir / (spec.label + "_" + set.name + ".rays"), set.rays);
     std::cout << "wrote " << spec.label << " (" << f->scene().triangles.size() << " triangles)\n";
   }
   return 0;

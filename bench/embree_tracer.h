@@ -1,34 +1,64 @@
-// Intel Embree 3 behind the benchmark's tracer interface: a scene of one
-// triangle mesh sharing the benchmark's vertex and index arrays, built with
-// a chosen quality, on a device restricted to the instruction set this
-// renderer's kernels run at (Embree's "isa=" device config); single-ray queries (rtcIntersect1 / rtcOccluded1) and
-// packets of 4, 8 or 16 rays (rtcIntersect4/8/16). Rays are converted to
-// Embree's records once per ray set, outside the timed loops. Benchmark only:
-// the renderer never uses Embree.
+// Intel Embree 3 behind the benchmark's tracer interface, with every way it
+// traces: single rays (rtcIntersect1 / rtcOccluded1), packets of 4, 8 and 16
+// (rtcIntersect4/8/16, rtcOccluded4/8/16), and streams of a whole queue, of
+// records (rtcIntersect1M / rtcOccluded1M) and of arrays (rtcIntersectNp /
+// rtcOccludedNp); packets and streams with the incoherent or the coherent
+// context flag. One
+// triangle mesh shares the benchmark's vertex and index arrays, built with a
+// chosen quality, on a device restricted to the instruction set this
+// renderer's kernels run at (Embree's "isa=" device config). Rays are
+// converted to Embree's forms once per ray set, outside the timed loops; the
+// timed calls copy them into per-thread records (Embree writes its answers
+// into the rays). Benchmark only: the renderer never uses Embree.
 #pragma once
 
 #include <embree3/rtcore.h>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "kernels/simd/isa.h"
 #include "kernels/math/ray.h"
 #include "kernels/scene/scene.h"
+#include "kernels/simd/isa.h"
+#include "ray_sets.h"
 
 namespace pt::bench {
 
-/// Embree's records of one ray set: single rays, and packets (padded with
-/// invalid lanes) for each packet width.
+enum class EmbreeMethod {
+  kSingle,  ///< rtcIntersect1 / rtcOccluded1
+  kPacket4,
+  kPacket8,
+  kPacket16,
+  kPacket4Coherent,  ///< the packets with the coherent context flag
+  kPacket8Coherent,
+  kPacket16Coherent,
+  kStream,          ///< rtcIntersect1M / rtcOccluded1M over a queue, incoherent flag
+  kStreamCoherent,  ///< the same with the coherent flag
+  kArrays,          ///< rtcIntersectNp / rtcOccludedNp over a queue, incoherent flag
+  kArraysCoherent,
+};
+inline constexpr std::array<EmbreeMethod, 11> kEmbreeMethods = {
+    EmbreeMethod::kSingle,           EmbreeMethod::kPacket4,         EmbreeMethod::kPacket8,
+    EmbreeMethod::kPacket16,         EmbreeMethod::kPacket4Coherent, EmbreeMethod::kPacket8Coherent,
+    EmbreeMethod::kPacket16Coherent, EmbreeMethod::kStream,          EmbreeMethod::kStreamCoherent,
+    EmbreeMethod::kArrays,           EmbreeMethod::kArraysCoherent};
+/// "single", "packet4", ..., "packet16_coherent", "stream", "stream_coherent", "arrays", "arrays_coherent".
+const char* embree_method_name(EmbreeMethod m);
+
+/// Embree's forms of one ray set: records, packets of each width built queue
+/// by queue (a queue's last packet padded with inactive lanes), and arrays.
 struct EmbreeRays {
-  std::vector<RTCRayHit> single;
+  std::vector<RTCRayHit> records;
   std::vector<RTCRayHit4> packets4;
   std::vector<RTCRayHit8> packets8;
   std::vector<RTCRayHit16> packets16;
-  size_t count = 0;
+  std::vector<size_t> first_packet[3];  ///< per queue, for widths 4, 8, 16
+  std::vector<float> arrays[8];         ///< org x y z, tnear, dir x y z, tfar... see embree_tracer.cpp
+  const RaySet* set = nullptr;
 };
-EmbreeRays convert_rays(const std::vector<Ray>& rays, bool with_packets);
+EmbreeRays convert_rays(const RaySet& set);
 
 class EmbreeTracer {
  public:
@@ -38,13 +68,10 @@ class EmbreeTracer {
   EmbreeTracer(const EmbreeTracer&) = delete;
   EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
-  /// Closest hits of rays [begin, end) into hits[begin, end).
-  void intersect1(const EmbreeRays& rays, size_t begin, size_t end, Hit* hits) const;
-  /// Packets of `width` (4, 8, 16) consecutive rays; begin and end multiples of width
-  /// (end may be the ray count).
-  void intersect_packets(const EmbreeRays& rays, int width, size_t begin, size_t end, Hit* hits) const;
-  /// Occlusion of rays [begin, end) into blocked[begin, end).
-  void occluded1(const EmbreeRays& rays, size_t begin, size_t end, uint8_t* blocked) const;
+  /// Traces the queues of the set that lie in rays [begin, end) (begin and
+  /// end are queue ends): closest hits into hits[begin, end), or occlusion
+  /// into blocked[begin, end).
+  void trace(EmbreeMethod method, const EmbreeRays& rays, size_t begin, size_t end, Hit* hits, uint8_t* blocked) const;
 
   double build_ms() const { return build_ms_; }
   /// Bytes Embree holds after the build (memory monitor: allocations minus frees).

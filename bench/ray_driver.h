@@ -1,12 +1,14 @@
 // Runs a ray range function over a whole ray set on N threads: one call on
 // the calling thread for N = 1, else chunks of 4096 rays (a multiple of every
-// packet width) spread over a persistent oneTBB arena of N workers. Every worker flushes
+// packet width), or of whole queues, spread over a persistent oneTBB arena of
+// N workers. Every worker flushes
 // denormals to zero, as Embree asks, so all tracers run in the same mode.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -39,6 +41,30 @@ void run_chunks(size_t n, int threads, F&& f) {
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
       enable_flush_denormals_to_zero();
       f(c * kRayChunk, std::min(n, (c + 1) * kRayChunk));
+    });
+  });
+}
+
+/// Calls f(begin, end) over [0, n) on `threads` threads in chunks of whole
+/// queues (queue_ends as RaySet's) of at least kRayChunk rays; the last chunk
+/// ends at n.
+template <class F>
+void run_queues(const std::vector<size_t>& queue_ends, size_t n, int threads, F&& f) {
+  if (threads <= 1) {
+    enable_flush_denormals_to_zero();
+    f(size_t{0}, n);
+    return;
+  }
+  std::vector<size_t> cuts = {0};
+  for (size_t end : queue_ends) {
+    if (end >= n) break;
+    if (end - cuts.back() >= kRayChunk) cuts.push_back(end);
+  }
+  if (cuts.back() < n) cuts.push_back(n);
+  arena_of(threads).execute([&] {
+    tbb::parallel_for(size_t{0}, cuts.size() - 1, [&](size_t c) {
+      enable_flush_denormals_to_zero();
+      f(cuts[c], cuts[c + 1]);
     });
   });
 }

@@ -33,13 +33,11 @@ float uniform01(Rng& rng) {
 
 }  // namespace
 
-const char* ray_kind_name(RayKind k) {
-  switch (k) {
-    case RayKind::kPrimary: return "primary";
-    case RayKind::kDiffuse: return "diffuse";
-    case RayKind::kShadow: return "shadow";
-  }
-  return "?";
+RaySet ray_set(std::string name, bool occlusion, std::vector<Ray> rays) {
+  RaySet set{std::move(name), occlusion, std::move(rays), {}};
+  for (size_t end = kQueueRays; end < set.rays.size(); end += kQueueRays) set.queue_ends.push_back(end);
+  set.queue_ends.push_back(set.rays.size());
+  return set;
 }
 
 std::vector<Ray> camera_rays(const Scene& scene, int w, int h, float window) {
@@ -115,10 +113,10 @@ RaySet primary_rays(const Scene& scene, int w, int h) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) keyed.push_back({morton2(x, y), size_t(y) * w + x});
   std::sort(keyed.begin(), keyed.end());
-  RaySet set{RayKind::kPrimary, {}};
-  set.rays.reserve(rows.size());
-  for (const auto& k : keyed) set.rays.push_back(rows[k.second]);
-  return set;
+  std::vector<Ray> rays;
+  rays.reserve(rows.size());
+  for (const auto& k : keyed) rays.push_back(rows[k.second]);
+  return ray_set("primary", false, std::move(rays));
 }
 
 }  // namespace pt::bench

@@ -2,12 +2,13 @@
 // and the BVH test suites: camera rays (row by row, or in Morton order, where
 // any aligned run of 4, 8 or 16 rays is a 2x2, 4x2 or 4x4 pixel block),
 // uniformly random rays, and from the first hits of a set the renderers'
-// diffuse-bounce rays and shadow rays. Deterministic for a given scene, size
-// and seed.
+// diffuse-bounce rays and shadow rays, in the order of their camera rays or
+// shuffled. Deterministic for a given scene, size and seed.
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "kernels/math/ray.h"
@@ -35,16 +36,21 @@ std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std
 std::vector<Ray> shadow_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits, uint32_t seed,
                              bool shuffle = false);
 
-enum class RayKind { kPrimary, kDiffuse, kShadow };
-const char* ray_kind_name(RayKind k);
+/// Rays per queue of the synthetic sets: the wavefront's wave of paths.
+inline constexpr size_t kQueueRays = 4096;
 
-/// The benchmark's sets: primary camera rays in Morton order, then shuffled
-/// diffuse and shadow rays from their first hits.
+/// A benchmark's ray set: its rays, in the order they are traced, and the
+/// queues they are traced in (a render's, or kQueueRays rays each): queue q
+/// is rays [queue_ends[q - 1], queue_ends[q]).
 struct RaySet {
-  RayKind kind;
+  std::string name;
+  bool occlusion = false;  ///< any-hit queries (shadow rays); else closest hit
   std::vector<Ray> rays;
-  bool occlusion() const { return kind == RayKind::kShadow; }
+  std::vector<size_t> queue_ends;
 };
+
+/// A set traced in queues of kQueueRays.
+RaySet ray_set(std::string name, bool occlusion, std::vector<Ray> rays);
 
 /// Camera rays of a w x h image (w, h multiples of 4) in Morton order over (x, y).
 RaySet primary_rays(const Scene& scene, int w, int h);

@@ -1,28 +1,37 @@
 // trace_rays: time this BVH4 on exactly the rays another tracer traced.
-//   trace_rays TRIS RAYS [--threads N] [--reps N] [--hits OUT]
-// Reads a triangle file and a ray file (formats in ray_files.h), builds the
-// BVH4, traces every ray closest-hit on 1 thread and on N threads (default 2):
-// a warm-up pass, then the median of --reps passes (default 7, at least 7),
-// excluding file I/O and the build. Prints one JSON line per thread count:
-//   {"threads":1,"isa":"avx2","mrays_per_s":...,"hits":...,"sum_t":...,"build_ms":...,"rays":...,
-//    "triangles":...}
+//   trace_rays TRIS RAYS [--occluded] [--single] [--queue N] [--threads N] [--reps N] [--hits OUT]
+// Reads a triangle file and a ray file (formats in io/ray_files.h), builds the
+// BVH4, and traces every ray, closest hit (or any hit with --occluded), in the
+// file's order: in queues of --queue rays (default 4096, the wavefront's
+// wave) through the queue tracer, or with --single ray by ray. On 1 thread
+// and on N threads (default 2; queues spread over the threads): a warm-up
+// pass, then the median of --reps passes (default 7, at least 7), excluding
+// file I/O and the build; 1 thread over the thread's CPU time, more over
+// wall time. Prints one JSON line per thread count:
+//   {"threads":1,"isa":"avx2","method":"queue","mrays_per_s":...,"hits":...,"sum_t":...,"build_ms":...,
+//    "rays":...,"triangles":...}
+// (with --occluded, "hits" counts blocked rays and sum_t is 0).
 // The kernels run at the level --isa (or PT_ISA) names, default the widest
 // this CPU runs.
-// --hits OUT writes float32 t, uint32 primitive per ray (the last pass).
+// --hits OUT writes float32 t, uint32 primitive per ray (the last pass; a
+// blocked ray of --occluded: t = 0, primitive 0; an unblocked one: t = tmax,
+// 0xFFFFFFFF).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <oneapi/tbb/enumerable_thread_specific.h>
 
 #include "bvh/scene_bvh4.h"
 #include "io/scene_error.h"
 #include "ray_driver.h"
-#include "ray_files.h"
+#include "io/ray_files.h"
 
 namespace {
 
@@ -34,13 +43,86 @@ struct Pass {
   double sum_t;
 };
 
-Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, std::vector<Hit>& hits, int threads) {
+/// The rays as arrays (the queue tracer's input), and its outputs.
+struct Queues {
+  std::vector<float> field[8];  // ox, oy, oz, tmin, dx, dy, dz, tmax
+  std::vector<float> t, u, v;
+  std::vector<uint32_t> prim;
+  std::vector<uint8_t> blocked;
+
+  explicit Queues(const std::vector<Ray>& rays) {
+    for (std::vector<float>& f : field) f.resize(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Ray& r = rays[i];
+      const float v8[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
+      for (int k = 0; k < 8; ++k) field[k][i] = v8[k];
+    }
+    t.resize(rays.size()), u.resize(rays.size()), v.resize(rays.size()), prim.resize(rays.size());
+    blocked.resize(rays.size());
+  }
+  RayArrays rays(size_t b, size_t e) const {
+    return {{field[0].data() + b, field[1].data() + b, field[2].data() + b},
+            {field[4].data() + b, field[5].data() + b, field[6].data() + b},
+            field[3].data() + b,
+            field[7].data() + b,
+            e - b};
+  }
+  HitArrays hits(size_t b) { return {t.data() + b, u.data() + b, v.data() + b, prim.data() + b}; }
+};
+
+double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+struct Setup {
+  bool occluded = false, single = false;
+  size_t queue = 4096;
+};
+
+Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q, std::vector<Hit>& hits, int threads,
+                const Setup& setup) {
+  static oneapi::tbb::enumerable_thread_specific<QueueScratch> scratch;
   auto start = std::chrono::steady_clock::now();
-  bench::run_chunks(rays.size(), threads, [&](size_t b, size_t e) {
-    bvh.intersect_each(std::span<const Ray>(rays).subspan(b, e - b), std::span<Hit>(hits).subspan(b, e - b));
-  });
-  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double cpu_start = thread_cpu_seconds();
+  const size_t queues = (rays.size() + setup.queue - 1) / setup.queue;
+  auto trace = [&](size_t first, size_t last) {  // queues [first, last)
+    for (size_t k = first; k < last; ++k) {
+      const size_t b = k * setup.queue, e = std::min(rays.size(), b + setup.queue);
+      if (setup.single) {
+        std::span<const Ray> in = std::span<const Ray>(rays).subspan(b, e - b);
+        if (setup.occluded) bvh.occluded_each(in, std::span<uint8_t>(q.blocked).subspan(b, e - b));
+        else bvh.intersect_each(in, std::span<Hit>(hits).subspan(b, e - b));
+      } else if (setup.occluded) {
+        bvh.occluded(q.rays(b, e), q.blocked.data() + b, scratch.local());
+      } else {
+        bvh.intersect(q.rays(b, e), q.hits(b), scratch.local());
+      }
+    }
+  };
+  if (threads <= 1) {
+    enable_flush_denormals_to_zero();
+    trace(0, queues);
+  } else {
+    bench::arena_of(threads).execute([&] {
+      oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, queues), [&](const auto& r) {
+        enable_flush_denormals_to_zero();
+        trace(r.begin(), r.end());
+      });
+    });
+  }
+  // 1 thread: the thread's CPU time, which other processes on a shared
+  // machine do not inflate (as bench_trace); more: wall time.
+  double s = threads <= 1 ? thread_cpu_seconds() - cpu_start
+                          : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!setup.single && !setup.occluded)
+    for (size_t i = 0; i < rays.size(); ++i) hits[i] = Hit{q.t[i], q.u[i], q.v[i], q.prim[i]};
   Pass p{s, 0, 0.0};
+  if (setup.occluded) {
+    for (uint8_t b : q.blocked) p.hits += b;
+    return p;
+  }
   for (const Hit& h : hits)
     if (h.valid()) {
       ++p.hits;
@@ -49,16 +131,16 @@ Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, std::vector<
   return p;
 }
 
-void report(int threads, const std::vector<double>& seconds, const Pass& last, size_t rays, size_t triangles,
-            double build_ms) {
+void report(int threads, const char* method, const std::vector<double>& seconds, const Pass& last, size_t rays,
+            size_t triangles, double build_ms) {
   std::vector<double> s = seconds;
   std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
   double median = s[s.size() / 2];
   std::printf(
-      "{\"threads\":%d,\"isa\":\"%s\",\"mrays_per_s\":%.4f,\"hits\":%zu,\"sum_t\":%.17g,\"build_ms\":%.3f,"
-      "\"rays\":%zu,\"triangles\":%zu,\"passes\":%zu}\n",
-      threads, std::string(isa_name(active_isa())).c_str(), rays / median / 1e6, last.hits, last.sum_t, build_ms, rays,
-      triangles, seconds.size());
+      "{\"threads\":%d,\"isa\":\"%s\",\"method\":\"%s\",\"mrays_per_s\":%.4f,\"hits\":%zu,\"sum_t\":%.17g,"
+      "\"build_ms\":%.3f,\"rays\":%zu,\"triangles\":%zu,\"passes\":%zu}\n",
+      threads, std::string(isa_name(active_isa())).c_str(), method, rays / median / 1e6, last.hits, last.sum_t,
+      build_ms, rays, triangles, seconds.size());
   std::fflush(stdout);
 }
 
@@ -73,30 +155,40 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Largest thread count (1 and this are timed)")->check(CLI::Range(1, 256));
   app.add_option("--reps", reps, "Timed passes per thread count (at least 7)")->check(CLI::Range(1, 100000));
   app.add_option("--hits", hits_path, "Write float32 t, uint32 primitive per ray");
+  Setup setup;
+  app.add_flag("--occluded", setup.occluded, "Any-hit (occlusion) queries instead of closest hits");
+  app.add_flag("--single", setup.single, "Trace ray by ray instead of through the queue tracer");
+  app.add_option("--queue", setup.queue, "Rays per queue for the queue tracer (the wavefront's wave: 4096)")
+      ->check(CLI::Range(1, 1 << 24));
   app.add_option("--isa", isa, "Instruction set: auto, sse4.2, avx2, avx512 or neon (also PT_ISA)");
   CLI11_PARSE(app, argc, argv);
   reps = std::max(reps, 7);
   try {
     set_active_isa(app.count("--isa") ? resolve_isa(isa) : active_isa());
-    Scene scene = bench::read_triangle_file(tris_path);
-    std::vector<Ray> rays = bench::read_ray_file(rays_path);
+    Scene scene = read_triangle_file(tris_path);
+    std::vector<Ray> rays = read_ray_file(rays_path);
     Bvh4Options options;
     options.threads = threads;
     SceneBvh4 bvh(scene, options);
     std::vector<Hit> hits(rays.size());
+    Queues queues(rays);
     std::vector<int> counts = {1};
     if (threads > 1) counts.push_back(threads);
+    const char* method = setup.single ? "single" : "queue";
     for (int t : counts) {
-      trace_once(bvh, rays, hits, t);  // warm-up
+      trace_once(bvh, rays, queues, hits, t, setup);  // warm-up
       std::vector<double> seconds;
       Pass last{};
       for (int r = 0; r < reps; ++r) {
-        last = trace_once(bvh, rays, hits, t);
+        last = trace_once(bvh, rays, queues, hits, t, setup);
         seconds.push_back(last.seconds);
       }
-      report(t, seconds, last, rays.size(), scene.triangles.size(), bvh.stats().build_ms);
+      report(t, method, seconds, last, rays.size(), scene.triangles.size(), bvh.stats().build_ms);
     }
-    if (!hits_path.empty()) bench::write_hit_file(hits_path, hits);
+    if (setup.occluded)
+      for (size_t i = 0; i < rays.size(); ++i)
+        hits[i] = queues.blocked[i] ? Hit{0.0f, 0.0f, 0.0f, 0} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
+    if (!hits_path.empty()) write_hit_file(hits_path, hits);
   } catch (const IsaError& e) {
     std::fprintf(stderr, "error: %s%s\n", app.count("--isa") ? "--isa: " : "", e.what());
     return 2;

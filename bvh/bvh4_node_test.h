@@ -30,6 +30,7 @@ struct NodeRay {
 
   static constexpr float kMinDir = 1e-18f;
 
+  NodeRay() = default;
   PT_ALWAYS_INLINE explicit NodeRay(const Ray& r) {
     for (int a = 0; a < 3; ++a) {
       float d = r.dir[a];

@@ -30,6 +30,20 @@ void intersect_packets(const SceneBvh4& s, std::span<const Ray> rays, std::span<
     bvh4_queries::intersect_packet(s, &rays[i], &hits[i], lanes_below(std::min(kLanes, rays.size() - i)));
 }
 
+void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
+                     TraversalCounters* c) {
+  if (c) return bvh4_queries::intersect_queue(s, rays, hits, scratch, *c);
+  NoCounters none;
+  bvh4_queries::intersect_queue(s, rays, hits, scratch, none);
+}
+
+void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch,
+                    TraversalCounters* c) {
+  if (c) return bvh4_queries::occluded_queue(s, rays, blocked, scratch, *c);
+  NoCounters none;
+  bvh4_queries::occluded_queue(s, rays, blocked, scratch, none);
+}
+
 }  // namespace
 
 namespace PT_ISA_NS {
@@ -44,6 +58,8 @@ const Bvh4QueryTable kBvh4Queries = {
     .intersect_packets = intersect_packets,
     .intersect_packet = bvh4_queries::intersect_packet,
     .occluded_packet = bvh4_queries::occluded_packet,
+    .intersect_queue = intersect_queue,
+    .occluded_queue = occluded_queue,
 };
 }  // namespace PT_ISA_NS
 

@@ -8,6 +8,7 @@
 
 #include "kernels/simd/isa.h"
 #include "kernels/math/ray.h"
+#include "ray_arrays.h"
 #include "traversal_counters.h"
 
 namespace pt {
@@ -25,6 +26,8 @@ struct Bvh4QueryTable {
   void (*intersect_packets)(const SceneBvh4&, std::span<const Ray>, std::span<Hit>);
   void (*intersect_packet)(const SceneBvh4&, const Ray*, Hit*, uint32_t lanes);
   uint32_t (*occluded_packet)(const SceneBvh4&, const Ray*, uint32_t lanes);
+  void (*intersect_queue)(const SceneBvh4&, const RayArrays&, const HitArrays&, QueueScratch&, TraversalCounters*);
+  void (*occluded_queue)(const SceneBvh4&, const RayArrays&, uint8_t*, QueueScratch&, TraversalCounters*);
 };
 
 /// The table of a level compiled into this binary (IsaError otherwise).

@@ -14,6 +14,7 @@
 #include "bvh4.h"
 #include "bvh4_build.h"
 #include "bvh4_query_table.h"
+#include "ray_arrays.h"
 #include "kernels/simd/isa.h"
 #include "kernels/math/ray.h"
 #include "kernels/scene/scene.h"
@@ -58,6 +59,23 @@ class SceneBvh4 {
     queries_->occluded_each(*this, rays, blocked);
   }
 
+  /// Closest hits of a whole queue of rays (the queue tracer, bvh4_stream.h):
+  /// hits[i] as intersect(rays.ray(i)) gives it, bit for bit but for which of
+  /// two triangles at exactly the same t is reported. `scratch` is the calling
+  /// thread's, reused from queue to queue.
+  void intersect(const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch) const {
+    queries_->intersect_queue(*this, rays, hits, scratch, nullptr);
+  }
+  void intersect(const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch, TraversalCounters& c) const {
+    queries_->intersect_queue(*this, rays, hits, scratch, &c);
+  }
+  /// blocked[i] = occluded(rays.ray(i)) (0 or 1) for every ray of a queue.
+  void occluded(const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch) const {
+    queries_->occluded_queue(*this, rays, blocked, scratch, nullptr);
+  }
+  void occluded(const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, TraversalCounters& c) const {
+    queries_->occluded_queue(*this, rays, blocked, scratch, &c);
+  }
   /// Rays per packet: the lane count K of the level the queries run at.
   uint32_t packet_lanes() const { return queries_->packet_lanes; }
   /// Closest hits of rays[i] into hits[i] for every i. Runs of packet_lanes()

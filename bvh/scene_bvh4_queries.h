@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "bvh4_packet.h"
+#include "bvh4_stream.h"
 #include "bvh4_traverse.h"
 #include "kernels/scene/sphere_intersect.h"
 #include "scene_bvh4.h"
@@ -110,6 +111,49 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
     hit = id != kInvalidId ? Hit{l.t[i], l.u[i], l.v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
     if (!spheres.empty() && (p.active >> i & 1)) closest_sphere(spheres, rays[i], hit);
   }
+}
+
+/// Closest hits of a whole queue: hits as intersect() gives them, ray by ray.
+template <class C>
+inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
+                            C& c) {
+  if (s.bvh().form != TriangleForm::kMollerTrumbore) {
+    for (size_t i = 0; i < rays.size; ++i) {
+      Hit h;
+      intersect(s, rays.ray(i), h, c);
+      hits.store(i, h);
+    }
+    return;
+  }
+  bvh4_intersect_stream(s.bvh(), rays, hits, scratch, c);
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  if (spheres.empty()) return;
+  for (size_t i = 0; i < rays.size; ++i) {
+    const Ray r = rays.ray(i);
+    if (!ray_is_traceable(r)) continue;
+    c.primitives_tested(static_cast<uint32_t>(spheres.size()));
+    Hit h = hits.load(i);
+    if (closest_sphere(spheres, r, h)) hits.store(i, h);
+  }
+}
+
+/// blocked[i] = occluded(rays.ray(i)) for every ray of a queue.
+template <class C>
+inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, C& c) {
+  if (s.bvh().form != TriangleForm::kMollerTrumbore) {
+    for (size_t i = 0; i < rays.size; ++i) blocked[i] = occluded(s, rays.ray(i), c);
+    return;
+  }
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  for (size_t i = 0; i < rays.size; ++i) {
+    blocked[i] = 0;
+    if (spheres.empty()) continue;
+    const Ray r = rays.ray(i);
+    if (!ray_is_traceable(r)) continue;
+    c.primitives_tested(static_cast<uint32_t>(spheres.size()));
+    blocked[i] = any_sphere(spheres, r);
+  }
+  bvh4_occluded_stream(s.bvh(), rays, blocked, scratch, c);
 }
 
 }  // namespace pt::bvh4_queries

@@ -34,6 +34,28 @@ struct Bvh4Tracer {
       return bvh4_queries::occluded_packet(accel, rays, lanes);
     }
   }
+  /// Closest hits of a whole queue (the queue tracer).
+  void intersect_queue(const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch, uint64_t& tests) const {
+    if constexpr (kCount) {
+      TraversalCounters c;
+      bvh4_queries::intersect_queue(accel, rays, hits, scratch, c);
+      tests += c.primitives;
+    } else {
+      NoCounters c;
+      bvh4_queries::intersect_queue(accel, rays, hits, scratch, c);
+    }
+  }
+  /// blocked[i] = whether ray i of a whole queue is blocked (the queue tracer).
+  void occluded_queue(const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, uint64_t& tests) const {
+    if constexpr (kCount) {
+      TraversalCounters c;
+      bvh4_queries::occluded_queue(accel, rays, blocked, scratch, c);
+      tests += c.primitives;
+    } else {
+      NoCounters c;
+      bvh4_queries::occluded_queue(accel, rays, blocked, scratch, c);
+    }
+  }
   bool intersect(const Ray& r, Hit& h, uint64_t& tests) const {
     if constexpr (kCount) {
       TraversalCounters c;
@@ -71,6 +93,17 @@ struct Bvh2Tracer {
     for (uint32_t m = lanes; m; m &= m - 1)
       if (occluded(rays[__builtin_ctz(m)], tests)) blocked |= 1u << __builtin_ctz(m);
     return blocked;
+  }
+  void intersect_queue(const RayArrays& rays, const HitArrays& hits, QueueScratch&, uint64_t& tests) const {
+    for (size_t i = 0; i < rays.size; ++i) {
+      Hit h;
+      const Ray r = rays.ray(i);
+      if (!intersect(r, h, tests)) h = Hit{r.tmax, 0.0f, 0.0f, kInvalidId};
+      hits.store(i, h);
+    }
+  }
+  void occluded_queue(const RayArrays& rays, uint8_t* blocked, QueueScratch&, uint64_t& tests) const {
+    for (size_t i = 0; i < rays.size; ++i) blocked[i] = occluded(rays.ray(i), tests);
   }
   bool intersect(const Ray& r, Hit& h, uint64_t& tests) const { return accel.intersect(r, h, tests); }
   bool occluded(const Ray& r, uint64_t& tests) const { return accel.occluded(r, tests); }

@@ -14,6 +14,7 @@ struct TraversalCounters {
 
   static constexpr bool kEnabled = true;
   void node() { ++nodes; }
+  void nodes_tested(uint64_t n) { nodes += n; }
   void primitives_tested(uint32_t n) { primitives += n; }
   TraversalCounters& operator+=(const TraversalCounters& o) {
     nodes += o.nodes;
@@ -27,6 +28,7 @@ static_assert(sizeof(TraversalCounters) == 16);
 struct NoCounters {
   static constexpr bool kEnabled = false;
   void node() {}
+  void nodes_tested(uint64_t) {}
   void primitives_tested(uint32_t) {}
 };
 

@@ -174,6 +174,7 @@ struct WatertightBlockRay {
   uint32_t kx, ky, kz;
   vfloat4 org[3];  ///< origin in permuted order (x = org[kx], ...)
   vfloat4 sx, sy, sz, tmin;
+  WatertightBlockRay() = default;
   explicit WatertightBlockRay(const Ray& r);
 };
 

@@ -27,12 +27,14 @@ constexpr std::array<const char*, 3> kAccels = {"bvh4", "bvh2", "none"};        
 constexpr std::array<const char*, 4> kBounceModes = {"accumulate", "only-m", "direct", "indirect"};
 constexpr std::array<const char*, 4> kDirectModes = {"light", "hemisphere", "cosine", "mis"};  // DirectLighting
 constexpr std::array<const char*, 2> kSamplers = {"independent", "sobol"};                     // PixelSampler
+constexpr std::array<const char*, 3> kTraceModes = {"queue", "packets", "single"};             // TraceChoice
 constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};                 // RouletteMode
 
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
-  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard;
+  std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard, trace;
+  bool no_packets = false;
   std::vector<std::string> resolution, adaptive, region;
   bool hemisphere = false, normals = false, cs184 = false, list_isa = false;
 };
@@ -123,6 +125,12 @@ void Converter::convert(const RawValues& raw) {
   choice("--direct", "direct light estimator", raw.direct, kDirectModes, s.direct);
   choice("--sampler", "sampler", raw.sampler, kSamplers, s.sampler);
   choice("--rr-mode", "Russian roulette mode", raw.rr_mode, kRouletteModes, s.roulette);
+  choice("--trace", "trace mode", raw.trace, kTraceModes, o_.trace);
+  if (raw.no_packets) {
+    if (error.empty() && app_.count("--trace") > 0 && o_.trace != TraceChoice::kSingle)
+      error = "--no-packets and --trace " + raw.trace + " contradict each other";
+    o_.trace = TraceChoice::kSingle;
+  }
   if (error.empty()) {  // the level in use: --isa, else the environment's PT_ISA, else the widest
     try {
       o_.isa = app_.count("--isa") > 0 ? resolve_isa(raw.isa) : active_isa();
@@ -159,6 +167,8 @@ std::string validate(const Options& o) {
     return "--bvh bvh4: the reference engine traces only with bvh2 or none (it is the 4-wide BVH's arbiter)";
   if (!o.checkpoint_file.empty() && o.engine == Engine::kReference)
     return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
+  if (!o.dump_queues.empty() && o.engine != Engine::kWavefront)
+    return "--dump-queues needs the wavefront engine (the only one with queues)";
   if (!o.merge.empty() && !o.scene_path.empty())
     return "--merge assembles parts made by --shard and takes no scene (got " + o.scene_path + ")";
   if (o.shard_count > 0 && !o.convergence_csv.empty()) return "--shard and --convergence-csv do not go together";
@@ -310,7 +320,14 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("OUT PART");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("--memory", o.memory, "Print the bytes of every structure the render allocates and the peak RSS");
-  app.add_flag("--no-packets", o.no_packets, "Wavefront: trace every ray on its own (no SIMD packets)");
+  app.add_option("--trace", raw.trace,
+                 "Wavefront: queue (every queue whole through the queue tracer), packets (camera rays and their "
+                 "shadow rays as SIMD packets, the others one by one) or single (every ray on its own); queue")
+      ->type_name("NAME");
+  app.add_flag("--no-packets", raw.no_packets, "Wavefront: trace every ray on its own (= --trace single)");
+  path("--dump-queues", o.dump_queues,
+       "Wavefront: write every queue the render traces into DIR as ray files (<kind>_d<depth>.rays) with the "
+       "scene's triangles (scene.tris), for trace_rays and bench_trace");
   app.add_flag("--count-tests", o.count_tests,
                "Count primitive intersection tests per ray for the report (BVH4 engines run slower)");
   app.add_option("--isa", raw.isa,

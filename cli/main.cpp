@@ -88,11 +88,14 @@ std::filesystem::path default_output(const cli::Options& o, const Scene& scene) 
 
 /// --memory: the structures' bytes, measured after the image is written.
 void print_memory(const cli::Options& o, const Scene& scene, const RenderOutput& out, const cli::EngineRunner& engine,
-                  size_t queue_bytes, const std::filesystem::path& output) {
+                  const cli::EngineRunner::QueueBytes& queues, const std::filesystem::path& output) {
   cli::MemoryReport report;
   cli::add_scene_memory(report, scene);
-  cli::EngineFootprint footprint{
-      o.engine, cli::accel_name(o.accel), {engine.accel_bytes(), engine.accel_used_bytes()}, queue_bytes};
+  cli::EngineFootprint footprint{o.engine,
+                                 cli::accel_name(o.accel),
+                                 {engine.accel_bytes(), engine.accel_used_bytes()},
+                                 queues.queues,
+                                 queues.tracer};
   cli::add_render_memory(report, o.settings, scene, out, footprint, output);
   report.peak_rss_bytes = cli::peak_resident_bytes();
   std::printf("%s", cli::format_memory_report(report).c_str());
@@ -209,8 +212,8 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
   if (!p.checkpoint.path.empty()) p.checkpoint.attach(control);
   cli::ProgressBar bar(!o.quiet);
   control.progress = [&bar](double f) { bar.update(f); };
-  size_t queue_bytes = 0;
-  RenderOutput out = p.engine->render(rs, control, &queue_bytes);
+  cli::EngineRunner::QueueBytes queues;
+  RenderOutput out = p.engine->render(rs, control, &queues);
   bar.finish();
 
   if (out.cancelled) {
@@ -227,7 +230,7 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
     std::printf("Wrote %s%s\n", p.output.c_str(),
                 rs.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");
   }
-  if (o.memory) print_memory(o, p.loaded.scene, out, *p.engine, queue_bytes, p.output);
+  if (o.memory) print_memory(o, p.loaded.scene, out, *p.engine, queues, p.output);
   return 0;
 }
 

@@ -80,6 +80,7 @@ void add_render_memory(MemoryReport& r, const RenderSettings& rs, const Scene& s
     wf::MaterialArrays mats(scene);
     add(r, "wavefront: material arrays", exactly(mats.bytes()), MemoryScale::kFixed);
     add(r, "wavefront: wave queues", exactly(e.queue_bytes), MemoryScale::kThread);
+    add(r, "wavefront: queue tracer lists", exactly(e.tracer_bytes), MemoryScale::kThread);
   }
   if (e.engine != Engine::kReference) {
     const size_t rendered = size_t(rs.area().width) * rs.area().height;  // the accumulators cover the region

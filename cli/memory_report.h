@@ -47,12 +47,14 @@ struct Footprint {
 };
 
 /// The engine side of a render: which engine, its accelerator and the
-/// bytes of its per-thread queues (0 for engines without queues).
+/// bytes of its per-thread queues and of the queue tracer's lists (0 for
+/// engines without queues).
 struct EngineFootprint {
   Engine engine = Engine::kReference;
   std::string accel_name;  ///< "none" for brute force
   Footprint accel;
   size_t queue_bytes = 0;
+  size_t tracer_bytes = 0;
 };
 
 /// Adds the engine's lines for a finished render: its accelerator, its

@@ -3,8 +3,10 @@
 #include "render_engines.h"
 
 #include <chrono>
+#include <cstdio>
 
 #include "io/scene_error.h"
+#include "queue_dump.h"
 #include "stage_report.h"
 #include "reference/reference_renderer.h"
 #include "wavefront/engines.h"
@@ -23,26 +25,37 @@ EngineRunner::EngineRunner(const Options& o, const Scene& scene, const Camera& c
 
 namespace {
 
+static_assert(int(TraceChoice::kQueue) == int(wf::TraceMode::kQueue) &&
+              int(TraceChoice::kPackets) == int(wf::TraceMode::kPackets) &&
+              int(TraceChoice::kSingle) == int(wf::TraceMode::kSingle));
+
 /// Runs a pass-based engine.
 RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camera& camera, const RenderSettings& rs,
-                               const RenderControl& control, const wf::Tracing& tracing, size_t* queue_bytes) {
+                               const RenderControl& control, const wf::Tracing& tracing,
+                               EngineRunner::QueueBytes* queues) {
   if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracing, control);
   wf::StageStats stages;
   wf::WavefrontOptions options;
-  options.packets = !o.no_packets;
+  options.trace = static_cast<wf::TraceMode>(o.trace);
+  QueueDump dump;
+  if (!o.dump_queues.empty()) options.capture = dump.hook();
   RenderOutput out = wf::render_wavefront(scene, camera, rs, tracing, options, control, &stages);
+  if (!o.dump_queues.empty()) {
+    size_t rays = dump.write(o.dump_queues, scene);
+    if (!o.quiet) std::printf("Wrote %zu rays of every queue traced to %s\n", rays, o.dump_queues.c_str());
+  }
   if (o.stats) print_stage_stats(stages, out.stats, o.isa);
-  if (queue_bytes) *queue_bytes = stages.queue_bytes;
+  if (queues) *queues = {stages.queue_bytes, stages.tracer_bytes};
   return out;
 }
 
 }  // namespace
 
-RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control, size_t* queue_bytes) const {
-  if (queue_bytes) *queue_bytes = 0;
+RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control, QueueBytes* queues) const {
+  if (queues) *queues = {};
   if (options_.engine == Engine::kReference) return reference::render_reference(scene_, *bvh2_, camera_, rs, control);
   wf::Tracing tracing{.bvh4 = bvh4_.get(), .bvh2 = bvh2_.get(), .count_tests = options_.count_tests};
-  return render_pass_based(options_, scene_, camera_, rs, control, tracing, queue_bytes);
+  return render_pass_based(options_, scene_, camera_, rs, control, tracing, queues);
 }
 
 }  // namespace pt::cli

@@ -16,10 +16,12 @@ class EngineRunner {
   /// Builds the acceleration structure. Throws InputError for combinations that do not exist.
   EngineRunner(const Options& options, const Scene& scene, const Camera& camera);
 
-  /// `queue_bytes`, if given, receives the bytes of the engine's per-thread
-  /// queues (0 for engines without queues).
-  RenderOutput render(const RenderSettings& settings, const RenderControl& control,
-                      size_t* queue_bytes = nullptr) const;
+  /// `queues`, if given, receives the bytes of the engine's per-thread queues
+  /// and of the queue tracer's lists (0 for engines without queues).
+  struct QueueBytes {
+    size_t queues = 0, tracer = 0;
+  };
+  RenderOutput render(const RenderSettings& settings, const RenderControl& control, QueueBytes* queues = nullptr) const;
   /// Whether the engine renders in passes (can checkpoint and resume).
   bool pass_based() const { return options_.engine != Engine::kReference; }
   double build_seconds() const { return build_seconds_; }

@@ -9,6 +9,7 @@
 #include "kernels/simd/isa.h"
 #include "kernels/render/render_job.h"
 #include "stage_stats.h"
+#include "trace_mode.h"
 
 namespace pt {
 class SceneBvh2;
@@ -26,8 +27,9 @@ struct Tracing {
 };
 
 struct WavefrontOptions {
-  size_t wave_paths = 4096;      ///< paths per wave (camera samples traced together)
-  bool packets = true;           ///< SIMD packets for camera rays and first-hit shadow rays
+  size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
+  TraceMode trace = TraceMode::kQueue;
+  QueueCapture capture;          ///< when set, receives every queue traced (trace_mode.h)
   bool sort_by_material = true;  ///< shade from queues binned by material kind (false: every kernel over every ray)
 };
 

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
+#include "engines.h"
 #include "generate_camera_rays.h"
 #include "intersect_closest.h"
 #include "russian_roulette.h"
@@ -17,11 +19,20 @@ namespace pt::wf {
 
 /// Renders samples [first_sample, first_sample + samples) of `pixels`; the
 /// radiance of path i ends up in b.paths (path i <-> pixel i / samples).
-/// `packets`: trace the coherent queues (camera rays, and shadow rays from the
-/// camera rays' hits) as SIMD packets.
+/// Hands a copy of `queue` to options.capture, if set.
+template <class Queue>
+void capture_queue(const WavefrontOptions& options, QueueKind kind, uint32_t depth, const Queue& queue) {
+  if (!options.capture || queue.size == 0) return;
+  std::vector<Ray> rays(queue.size);
+  for (size_t i = 0; i < queue.size; ++i) rays[i] = queue.ray(i);
+  options.capture(kind, depth, rays);
+}
+
+/// options.trace: how the queues are traced (trace_mode.h).
 template <class Tracer>
 void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint32_t> pixels, uint32_t first_sample,
-              uint32_t samples, bool packets, WaveBuffers& b, StageStats& stats) {
+              uint32_t samples, const WavefrontOptions& options, WaveBuffers& b, StageStats& stats) {
+  const TraceMode mode = options.trace;
   {
     StageTimer t(stats, Stage::kGenerate);
     generate_camera_rays(ctx, pixels, first_sample, samples, b.paths, b.rays[0]);
@@ -31,9 +42,10 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
   for (uint32_t depth = 0; b.rays[cur].size > 0; ++depth) {
     RayQueue& rays = b.rays[cur];
     stats.count_alive(depth, rays.size);
+    capture_queue(options, depth == 0 ? QueueKind::kCamera : QueueKind::kBounce, depth, rays);
     {
       StageTimer t(stats, depth == 0 ? Stage::kIntersectCamera : Stage::kIntersectBounce);
-      intersect_closest(tracer, rays, b.hits, stats.primitive_tests, packets && depth == 0);
+      intersect_closest(tracer, rays, b.hits, b.tracing, stats.primitive_tests, method_for(mode, depth));
     }
     if (ctx.settings.shading == ShadingMode::kNormals) {
       StageTimer t(stats, Stage::kShade);
@@ -47,10 +59,13 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
       StageTimer t(stats, Stage::kShade);
       shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, b.continuations}, b.by_material);
     }
+    capture_queue(options, QueueKind::kShadow, depth, b.shadows);
+    capture_queue(options, QueueKind::kHemisphere, depth, b.hemisphere);
     {
       StageTimer t(stats, depth == 0 ? Stage::kShadowFirstHit : Stage::kShadowLater);
-      trace_shadow_rays(tracer, b.shadows, b.paths, stats.primitive_tests, packets && depth == 0);
-      trace_hemisphere_rays(tracer, ctx, b.hemisphere, b.paths, stats.primitive_tests);
+      trace_shadow_rays(tracer, b.shadows, b.paths, b.tracing, stats.primitive_tests, method_for(mode, depth));
+      trace_hemisphere_rays(tracer, ctx, b.hemisphere, b.hits, b.paths, b.tracing, stats.primitive_tests,
+                            method_for(mode, depth + 1));
     }
     stats.shadow_rays += b.shadows.size + b.hemisphere.size;
     if (depth == 0) stats.first_hit_shadow_rays += b.shadows.size + b.hemisphere.size;

@@ -34,6 +34,7 @@ struct StageStats {
   uint64_t primitive_tests = 0;
   std::vector<uint64_t> paths_alive;  ///< index = depth (0 = camera rays)
   size_t queue_bytes = 0;             ///< bytes the wave buffers held at the end (all threads)
+  size_t tracer_bytes = 0;            ///< bytes of the queue tracer's lists and answers at the end (all threads)
 
   void count_alive(uint32_t depth, uint64_t n) {
     if (paths_alive.size() <= depth) paths_alive.resize(depth + 1, 0);
@@ -47,6 +48,7 @@ struct StageStats {
     first_hit_shadow_rays += o.first_hit_shadow_rays;
     primitive_tests += o.primitive_tests;
     queue_bytes += o.queue_bytes;
+    tracer_bytes += o.tracer_bytes;
     for (size_t d = 0; d < o.paths_alive.size(); ++d) count_alive(static_cast<uint32_t>(d), o.paths_alive[d]);
     return *this;
   }

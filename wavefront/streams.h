@@ -3,6 +3,7 @@
 // carry the index of their path.
 #pragma once
 
+#include "bvh/ray_arrays.h"
 #include "kernels/math/ray.h"
 #include "soa.h"
 
@@ -35,12 +36,21 @@ struct PathState {
 struct RayQueue {
   PT_SOA_STREAM(PT_RAY_FIELDS)
   Ray ray(size_t i) const { return {{org_x[i], org_y[i], org_z[i]}, tmin[i], {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]}; }
+  /// The queue as the BVH's queue tracer reads it.
+  RayArrays arrays() const {
+    return {{org_x.data(), org_y.data(), org_z.data()},
+            {dir_x.data(), dir_y.data(), dir_z.data()},
+            tmin.data(),
+            tmax.data(),
+            size};
+  }
 };
 
 /// 16 bytes per hit, parallel to a RayQueue (prim == kInvalidId: miss).
 #define PT_HIT_FIELDS(X) X(float, t) X(float, u) X(float, v) X(uint32_t, prim)
 struct HitQueue {
   PT_SOA_STREAM(PT_HIT_FIELDS)
+  HitArrays arrays() { return {t.data(), u.data(), v.data(), prim.data()}; }
 };
 
 /// 44 bytes per shadow ray: an occlusion query and the radiance it adds to
@@ -55,6 +65,14 @@ struct HitQueue {
 struct ShadowQueue {
   PT_SOA_STREAM(PT_SHADOW_FIELDS)
   Ray ray(size_t i) const { return {{org_x[i], org_y[i], org_z[i]}, 0.0f, {dir_x[i], dir_y[i], dir_z[i]}, tmax[i]}; }
+  /// The queue as the BVH's queue tracer reads it (tmin = 0).
+  RayArrays arrays() const {
+    return {{org_x.data(), org_y.data(), org_z.data()},
+            {dir_x.data(), dir_y.data(), dir_z.data()},
+            nullptr,
+            tmax.data(),
+            size};
+  }
 };
 
 }  // namespace pt::wf

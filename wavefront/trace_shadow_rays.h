@@ -5,45 +5,71 @@
 
 #include <algorithm>
 
+#include "intersect_closest.h"
 #include "kernels/transport/surface.h"
 #include "streams.h"
+#include "trace_mode.h"
+#include "wave_buffers.h"
 #include "wave_context.h"
 
 namespace pt::wf {
 
-/// With `coherent` (shadow rays from one pixel's first hits) runs of K rays go
-/// through the tracer's SIMD packet traversal.
+/// tb.blocked[i] = whether shadow ray i is blocked.
 template <class Tracer>
-void trace_shadow_rays(const Tracer& tracer, const ShadowQueue& shadows, PathState& paths, uint64_t& tests,
-                       bool coherent) {
-  auto add = [&](size_t i) {
-    paths.add_radiance(shadows.path[i], shadows.weight_r[i], shadows.weight_g[i], shadows.weight_b[i]);
-  };
-  if (coherent) {
-    Ray packet[kLanes];
-    for (size_t i0 = 0; i0 < shadows.size; i0 += kLanes) {
-      size_t n = std::min(kLanes, shadows.size - i0);
-      for (size_t l = 0; l < n; ++l) packet[l] = shadows.ray(i0 + l);
-      uint32_t lanes = lanes_below(n);
-      uint32_t blocked = tracer.occluded_packet(packet, lanes, tests);
-      for (uint32_t m = lanes & ~blocked; m; m &= m - 1) add(i0 + __builtin_ctz(m));
+void find_blocked(const Tracer& tracer, const ShadowQueue& shadows, TracingBuffers& tb, uint64_t& tests,
+                  QueueMethod method) {
+  tb.blocked.resize(std::max(tb.blocked.size(), shadows.size));
+  uint8_t* blocked = tb.blocked.data();
+  switch (method) {
+    case QueueMethod::kQueue: tracer.occluded_queue(shadows.arrays(), blocked, tb.scratch, tests); return;
+    case QueueMethod::kPackets: {
+      Ray packet[kLanes];
+      for (size_t i0 = 0; i0 < shadows.size; i0 += kLanes) {
+        size_t n = std::min(kLanes, shadows.size - i0);
+        for (size_t l = 0; l < n; ++l) packet[l] = shadows.ray(i0 + l);
+        uint32_t hit = tracer.occluded_packet(packet, lanes_below(n), tests);
+        for (size_t l = 0; l < n; ++l) blocked[i0 + l] = (hit >> l) & 1;
+      }
+      return;
     }
-    return;
+    case QueueMethod::kSingle: break;
   }
-  for (size_t i = 0; i < shadows.size; ++i)
-    if (!tracer.occluded(shadows.ray(i), tests)) add(i);
+  for (size_t i = 0; i < shadows.size; ++i) blocked[i] = tracer.occluded(shadows.ray(i), tests);
 }
 
 template <class Tracer>
-void trace_hemisphere_rays(const Tracer& tracer, const WaveContext& ctx, const ShadowQueue& rays, PathState& paths,
-                           uint64_t& tests) {
+void trace_shadow_rays(const Tracer& tracer, const ShadowQueue& shadows, PathState& paths, TracingBuffers& tb,
+                       uint64_t& tests, QueueMethod method) {
+  find_blocked(tracer, shadows, tb, tests, method);
+  for (size_t i = 0; i < shadows.size; ++i)
+    if (!tb.blocked[i])
+      paths.add_radiance(shadows.path[i], shadows.weight_r[i], shadows.weight_g[i], shadows.weight_b[i]);
+}
+
+/// Closest hits of the hemisphere-sampling rays (into `hits`, free at this
+/// stage); each adds weight x the emission it finds.
+template <class Tracer>
+void trace_hemisphere_rays(const Tracer& tracer, const WaveContext& ctx, const ShadowQueue& rays, HitQueue& hits,
+                           PathState& paths, TracingBuffers& tb, uint64_t& tests, QueueMethod method) {
+  if (rays.size == 0) return;
+  hits.reserve(rays.size);
+  hits.size = rays.size;
+  const HitArrays found = hits.arrays();
+  if (method == QueueMethod::kQueue) {
+    tracer.intersect_queue(rays.arrays(), found, tb.scratch, tests);
+  } else {
+    for (size_t i = 0; i < rays.size; ++i) {
+      Hit h;
+      if (!tracer.intersect(rays.ray(i), h, tests)) h = Hit{rays.tmax[i], 0.0f, 0.0f, kInvalidId};
+      found.store(i, h);
+    }
+  }
   const Scene& scene = ctx.scene;
   for (size_t i = 0; i < rays.size; ++i) {
-    Ray ray = rays.ray(i);
-    Hit hit;
+    const Ray ray = rays.ray(i);
+    const Hit hit = found.load(i);
     float3 incoming;
-    if (tracer.intersect(ray, hit, tests))
-      incoming = emitted_radiance(scene, surface_at(scene, ray, hit), ray, ctx.settings);
+    if (hit.valid()) incoming = emitted_radiance(scene, surface_at(scene, ray, hit), ray, ctx.settings);
     else if (ctx.sky_visible) incoming = sky_radiance(scene, ray.dir);
     if (is_black(incoming)) continue;
     paths.add_radiance(rays.path[i], rays.weight_r[i] * incoming.x, rays.weight_g[i] * incoming.y,

@@ -7,10 +7,19 @@
 
 #include <cstddef>
 
+#include "bvh/ray_arrays.h"
 #include "material_queues.h"
 #include "streams.h"
 
 namespace pt::wf {
+
+/// What tracing a queue needs besides the queue: the queue tracer's scratch
+/// and the occlusion answers of a shadow queue.
+struct TracingBuffers {
+  QueueScratch scratch;
+  std::vector<uint8_t> blocked;
+  size_t bytes() const { return scratch.bytes() + blocked.capacity(); }
+};
 
 /// X(type, name, extent): a member `type name extent`.
 // clang-format off
@@ -34,6 +43,7 @@ struct WaveBuffers {
 #define PT_WAVE_MEMBER(type, name, extent) type name extent;
   PT_WAVE_BUFFERS(PT_WAVE_MEMBER)
 #undef PT_WAVE_MEMBER
+  TracingBuffers tracing;  ///< not a queue: its bytes are counted apart
 
   size_t bytes() const {
 #define PT_WAVE_BYTES(type, name, extent) +stream_bytes(name)

@@ -31,7 +31,7 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
                    RenderStats& stats) {
     WaveBuffers& b = buffers.local();
     StageStats& ss = stages.local();
-    run_wave(ctx, tracer, pixels, first, len, options.packets, b, ss);
+    run_wave(ctx, tracer, pixels, first, len, options, b, ss);
     StageTimer t(ss, Stage::kAccumulate);
     for (size_t i = 0; i < b.paths.size; ++i) {
       float3 L{b.paths.radiance_r[i], b.paths.radiance_g[i], b.paths.radiance_b[i]};
@@ -43,7 +43,10 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
 
   StageStats all;
   for (const StageStats& s : stages) all += s;
-  for (const WaveBuffers& b : buffers) all.queue_bytes += b.bytes();
+  for (const WaveBuffers& b : buffers) {
+    all.queue_bytes += b.bytes();
+    all.tracer_bytes += b.tracing.bytes();
+  }
   out.stats.camera_rays = all.camera_rays;
   out.stats.bounce_rays = all.bounce_rays;
   out.stats.shadow_rays = all.shadow_rays;

@@ -367,6 +367,18 @@ inline vuintK reverse_bits(vuintK v) {
 #endif
 }
 
+/// x * y - z in K lanes, with one rounding where the CPU has FMA (xsimd 8.1's
+/// fms never fuses), as fused_mul_sub does in four.
+inline vfloatK fused_mul_sub_k(vfloatK x, vfloatK y, vfloatK z) {
+#if XSIMD_WITH_AVX512F
+  return _mm512_fmsub_ps(x, y, z);
+#elif XSIMD_WITH_AVX2 && defined(__FMA__)
+  return _mm256_fmsub_ps(x, y, z);
+#else
+  return fused_mul_sub(x, y, z);  // K = 4: vfloatK is vfloat4
+#endif
+}
+
 /// Smallest of the K lanes; the lanes must not be NaN.
 inline float reduce_min_k(vfloatK v) {
 #if XSIMD_WITH_AVX512F
@@ -375,7 +387,7 @@ inline float reduce_min_k(vfloatK v) {
 #elif XSIMD_WITH_AVX
   return reduce_min(vfloat4(_mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1))));
 #else
-  return reduce_min(v);  // K = 4: vfloatK is vfloat4
+  return reduce_min(v);           // K = 4: vfloatK is vfloat4
 #endif
 }
 

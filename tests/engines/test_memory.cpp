@@ -73,7 +73,8 @@ cli::MemoryReport wavefront_report(int w, int h) {
       wf::render_wavefront(scene, test::camera_above_floor(), rs, wf::Tracing{.bvh2 = &accel}, {}, {}, &stages);
   cli::MemoryReport r;
   cli::add_scene_memory(r, scene);
-  cli::EngineFootprint engine{cli::Engine::kWavefront, "bvh2", {accel.bytes(), accel.bytes()}, stages.queue_bytes};
+  cli::EngineFootprint engine{
+      cli::Engine::kWavefront, "bvh2", {accel.bytes(), accel.bytes()}, stages.queue_bytes, stages.tracer_bytes};
   cli::add_render_memory(r, rs, scene, out, engine, "out.png");
   return r;
 }
@@ -95,6 +96,11 @@ TEST(MemoryReport, PerPixelBuffersScaleWithTheImageAndQueuesWithTheWave) {
                     sizeof(wf::ShadowQueue::Item);
   EXPECT_LE(queues, 4096 * per_path);
   EXPECT_GT(queues, 0u);
+  // The queue tracer's answers: one byte per shadow ray of a wave (the BVH2
+  // traces ray by ray: no lists).
+  size_t tracer = line(small, "wavefront: queue tracer lists").bytes;
+  EXPECT_EQ(tracer, line(large, "wavefront: queue tracer lists").bytes);
+  EXPECT_LE(tracer, 4096u);
 }
 
 TEST(PeakMemory, CBbunnyAt480x360StaysUnder64MBInEveryEngine) {

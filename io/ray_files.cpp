@@ -2,12 +2,12 @@
 #include "ray_files.h"
 
 #include <cstring>
-#include <fstream>
 
-#include "io/read_file.h"
-#include "io/scene_error.h"
+#include "atomic_file.h"
+#include "read_file.h"
+#include "scene_error.h"
 
-namespace pt::bench {
+namespace pt {
 namespace {
 
 /// The file's bytes, a whole number of `record`-byte records.
@@ -20,9 +20,7 @@ std::string read_all(const std::filesystem::path& path, const char* what, size_t
 }
 
 void write_all(const std::filesystem::path& path, const void* data, size_t bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
-  if (!out) throw InputError(path.string() + ": cannot write");
+  write_file_atomically(path, std::string_view(static_cast<const char*>(data), bytes));
 }
 
 }  // namespace
@@ -54,7 +52,7 @@ std::vector<Ray> read_ray_file(const std::filesystem::path& path) {
   return rays;
 }
 
-void write_ray_file(const std::filesystem::path& path, const std::vector<Ray>& rays) {
+void write_ray_file(const std::filesystem::path& path, std::span<const Ray> rays) {
   write_all(path, rays.data(), rays.size() * sizeof(Ray));
 }
 
@@ -69,4 +67,4 @@ void write_hit_file(const std::filesystem::path& path, const std::vector<Hit>& h
   write_all(path, out.data(), out.size() * sizeof(uint32_t));
 }
 
-}  // namespace pt::bench
+}  // namespace pt

@@ -1,0 +1,452 @@
+// A whole queue of rays through the 4-wide BVH at once (dynamic ray stream
+// traversal, after Barringer and Akenine-Moller 2014): the rays that reach a
+// node form a list; each child box is tested against all of them, K rays per
+// SIMD instruction, and the rays that enter it are compacted into the child's
+// list, each with the constants of its slab test, so that the next level
+// loads them as vectors. A leaf that many rays reach tests each of its
+// triangles against K rays at a time. A list that has thinned below
+// kStreamMinRays goes on ray by ray with the single-ray traversal
+// (bvh4_traverse.h), from that node and under each ray's current nearest hit.
+// Every ray gets the hit it gets alone, bit for bit: the triangle test does
+// the same operations per lane as the block test, and a leaf's triangles are
+// taken in the block test's order. Only which of two different triangles at
+// exactly the same t is reported may differ, as with packets.
+// Moller-Trumbore leaves only.
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+
+#include "bvh4_traverse.h"
+#include "ray_arrays.h"
+
+#ifndef PT_ISA_NS
+#error "bvh4_stream.h is for code compiled once per instruction-set level"
+#endif
+
+namespace pt {
+namespace stream_detail {
+
+/// Rays a list needs for its node or leaf to be tested across rays.
+inline constexpr uint32_t kStreamMinRays = kLanes == 16 ? 32 : kLanes == 8 ? 4 : 2;
+
+/// The fields of a list, each an array of `room` 32-bit words: the ray's index
+/// in the queue, then the constants of its slab test (NodeRay's) and its tmin.
+enum ListField : uint32_t { kId, kRdirX, kRdirY, kRdirZ, kOrgRdirX, kOrgRdirY, kOrgRdirZ, kTminField, kListFields };
+
+/// Room for a list of n rays written K at a time: n rounded up to whole
+/// batches of the widest lane count, plus one batch.
+constexpr uint32_t list_room(size_t n) {
+  return static_cast<uint32_t>((n + 2 * kMaxLanes - 1) / kMaxLanes * kMaxLanes);
+}
+
+/// A node or leaf and the list of the rays that enter it, at words
+/// [offset, offset + kListFields * room) of the arena. The lists of a node's
+/// children are allocated together and end at block_end, where the arena's
+/// free space starts again once this entry is taken.
+struct ListEntry {
+  uint32_t ref, offset, count, room, block_end;
+};
+
+/// The lists, one after the other (QueueScratch::ids).
+class ListArena {
+ public:
+  explicit ListArena(QueueScratch& s) : words_(s.ids) {}
+  /// Room for `n` more words past `top`.
+  void reserve(size_t top, size_t n) {
+    if (words_.size() < top + n) words_.resize(std::max(2 * words_.size(), top + n));
+  }
+  float* field(const ListEntry& e, ListField f) { return field(e.offset, e.room, f); }
+  float* field(uint32_t offset, uint32_t room, ListField f) {
+    return reinterpret_cast<float*>(words_.data() + offset + size_t(f) * room);
+  }
+  const uint32_t* ids(const ListEntry& e) const { return words_.data() + e.offset; }
+
+ private:
+  std::vector<uint32_t>& words_;
+};
+
+/// K indices of a list; lanes outside `valid` (past the list's end) read index
+/// 0, so that gathers stay in bounds.
+PT_ALWAYS_INLINE vintK load_ids(const float* p, uint32_t valid) {
+  const vintK id = xsimd::bitwise_cast<vintK>(vfloatK::load_unaligned(p));
+  return valid == lanes_below(kLanes) ? id : xsimd::select(as_int_mask(lanes_of_mask(valid)), id, vintK(0));
+}
+
+/// Whether some ray of the queue has tmin != 0 (so lists carry tmin).
+inline bool has_tmin(const RayArrays& rays) {
+  if (!rays.tmin) return false;
+  for (size_t i = 0; i < rays.size; ++i)
+    if (rays.tmin[i] != 0.0f) return true;
+  return false;
+}
+
+/// Lists the traceable rays of the queue, in queue order, with their slab
+/// constants (computed as NodeRay computes them) and, with kTmin, their tmin;
+/// returns the root's entry.
+template <bool kTmin>
+inline ListEntry root_list(const Bvh4& bvh, const RayArrays& rays, ListArena& arena) {
+  constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
+  const uint32_t room = list_room(rays.size);
+  arena.reserve(0, size_t(kFields) * room);
+  float* out[kListFields];
+  for (uint32_t f = 0; f < kFields; ++f) out[f] = arena.field(0, room, ListField(f));
+  const vfloatK min_dir(NodeRay::kMinDir);
+  uint32_t count = 0;
+  for (size_t i = 0; i < rays.size; i += kLanes) {
+    const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
+    auto load = [&](const float* a) {  // lanes past the end read the last ray
+      if (valid == lanes_below(kLanes)) return vfloatK::load_unaligned(a + i);
+      alignas(64) float tail[kLanes];
+      for (size_t l = 0; l < kLanes; ++l) tail[l] = a[std::min(i + l, rays.size - 1)];
+      return vfloatK::load_aligned(tail);
+    };
+    vfloatK org[3], dir[3];
+    for (int a = 0; a < 3; ++a) org[a] = load(rays.org[a]), dir[a] = load(rays.dir[a]);
+    const vfloatK tmin = rays.tmin ? load(rays.tmin) : vfloatK(0.0f), tmax = load(rays.tmax);
+    vboolK traceable = tmin < tmax;  // false for NaN
+    for (int a = 0; a < 3; ++a) traceable = traceable & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
+    const uint32_t m = lane_mask(traceable) & valid;
+    if (m == 0) continue;
+    store_compressed(reinterpret_cast<int32_t*>(out[kId] + count), m, vintK(static_cast<int32_t>(i)) + lane_index());
+    for (int a = 0; a < 3; ++a) {
+      const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
+      const vfloatK inv = vfloatK(1.0f) / safe;
+      store_compressed(out[kRdirX + a] + count, m, inv);
+      store_compressed(out[kOrgRdirX + a] + count, m, org[a] * inv);
+    }
+    if constexpr (kTmin) store_compressed(out[kTminField] + count, m, tmin);
+    count += std::popcount(m);
+  }
+  return {bvh.root, 0, count, room, kFields * room};
+}
+
+/// Slab-test constants of K listed rays.
+struct NodeLanes {
+  vfloatK rdir[3], org_rdir[3], tmin, tmax;
+};
+
+/// Entry distances of K rays into child c, and which of them enter it.
+PT_ALWAYS_INLINE vboolK child_test(const Bvh4Node& node, int c, const NodeLanes& r, vfloatK& tnear) {
+  vfloatK tn = r.tmin, tf = r.tmax;
+  for (int a = 0; a < 3; ++a) {
+    vfloatK t0 = fused_mul_sub_k(vfloatK(node.bounds[2 * a][c]), r.rdir[a], r.org_rdir[a]);
+    vfloatK t1 = fused_mul_sub_k(vfloatK(node.bounds[2 * a + 1][c]), r.rdir[a], r.org_rdir[a]);
+    tn = xsimd::max(tn, xsimd::min(t0, t1));
+    tf = xsimd::min(tf, xsimd::max(t0, t1));
+  }
+  tnear = tn;
+  return tn <= tf;
+}
+
+/// Rays a queue is traced in at most at once: longer queues go in parts of
+/// this many (the lists of a part stay in the first levels of the cache).
+inline constexpr uint32_t kMaxStreamRays = 4096;
+
+/// Splits the list of entry e over the children of its node and pushes the
+/// children that rays enter on the stack, the one to visit first on top: by
+/// mean entry distance, nearest first, with `kOrdered` (closest hit); in node
+/// order, last child first, without (any hit). Two passes: the first tests
+/// every chunk of K rays against the four child boxes and keeps the masks;
+/// the second compacts each child's rays into a list of its own, allocated
+/// at the end of e's block, except for a child that every ray enters, which
+/// takes e's list as it is. `live_tmax` is each ray's current tmax (its
+/// nearest hit so far, or -inf once blocked). kTmin: the list carries tmin
+/// (else every ray's tmin is 0).
+template <bool kOrdered, bool kTmin, class C>
+inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax,
+                                          ListEntry*& sp, C& counters) {
+  constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
+  const Bvh4Node& node = bvh.node(e.ref);
+  counters.nodes_tested(e.count);
+  uint32_t child_ok = 0;  // non-empty slots
+  for (int c = 0; c < 4; ++c) child_ok |= uint32_t(node.child[c] != bvh4_ref::kEmptyRef) << c;
+  const float* in[kListFields];
+  for (uint32_t f = 0; f < kFields; ++f) in[f] = arena.field(e, ListField(f));
+  // Pass 1: the masks of every chunk, the counts and the entry distances.
+  alignas(64) uint16_t masks[kMaxStreamRays / kLanes][4];
+  uint32_t count[4] = {0, 0, 0, 0};
+  vfloatK dist[4] = {vfloatK(0.0f), vfloatK(0.0f), vfloatK(0.0f), vfloatK(0.0f)};
+  const uint32_t chunks = (e.count + kLanes - 1) / kLanes;
+  for (uint32_t j = 0; j < chunks; ++j) {
+    const uint32_t i = j * kLanes;
+    const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
+    const vintK id = load_ids(in[kId] + i, valid);
+    NodeLanes r;
+    for (int a = 0; a < 3; ++a) {
+      r.rdir[a] = vfloatK::load_unaligned(in[kRdirX + a] + i);
+      r.org_rdir[a] = vfloatK::load_unaligned(in[kOrgRdirX + a] + i);
+    }
+    r.tmin = kTmin ? vfloatK::load_unaligned(in[kTminField] + i) : vfloatK(0.0f);
+    r.tmax = gather(live_tmax, id);
+    for (int k = 0; k < 4; ++k) {
+      vfloatK tnear;
+      const uint32_t m = (child_ok >> k & 1) ? lane_mask(child_test(node, k, r, tnear)) & valid : 0;
+      masks[j][k] = static_cast<uint16_t>(m);
+      count[k] += std::popcount(m);
+      if constexpr (kOrdered) dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
+    }
+  }
+  // Pass 2: a list for each child that some rays but not all enter.
+  uint32_t top = e.block_end;
+  ListEntry hit[4];
+  float mean[4];
+  int n = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (count[k] == 0) continue;
+    if constexpr (kOrdered) mean[n] = xsimd::hadd(dist[k]) / float(count[k]);
+    if (count[k] == e.count) {
+      hit[n++] = {node.child[k], e.offset, e.count, e.room, 0};
+      continue;
+    }
+    const uint32_t room = list_room(count[k]);
+    arena.reserve(top, size_t(kFields) * room);
+    float* out[kListFields];
+    for (uint32_t f = 0; f < kFields; ++f) out[f] = arena.field(top, room, ListField(f));
+    for (uint32_t f = 0; f < kFields; ++f) in[f] = arena.field(e, ListField(f));  // the arena may have moved
+    uint32_t written = 0;
+    for (uint32_t j = 0; j < chunks; ++j) {
+      const uint32_t m = masks[j][k];
+      if (m == 0) continue;
+      const uint32_t i = j * kLanes;
+      for (uint32_t f = 0; f < kFields; ++f)
+        store_compressed(out[f] + written, m, vfloatK::load_unaligned(in[f] + i));
+      written += std::popcount(m);
+    }
+    hit[n++] = {node.child[k], top, count[k], room, 0};
+    top += kFields * room;
+  }
+  for (int i = 0; i < n; ++i) hit[i].block_end = top;
+  if constexpr (kOrdered) {
+    for (int i = 1; i < n; ++i)  // insertion sort, far first
+      for (int j = i; j > 0 && mean[j - 1] < mean[j]; --j) {
+        std::swap(mean[j - 1], mean[j]);
+        std::swap(hit[j - 1], hit[j]);
+      }
+  }
+  for (int i = 0; i < n; ++i) {
+    prefetch_ref(bvh, hit[i].ref);
+    *sp++ = hit[i];
+  }
+}
+
+/// The Moller-Trumbore constants of K listed rays.
+struct TriangleLanes {
+  vfloatK org[3], dir[3], tmin;
+};
+
+PT_ALWAYS_INLINE TriangleLanes gather_triangle_lanes(const RayArrays& rays, vintK id, vfloatK tmin) {
+  TriangleLanes r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = gather(rays.org[a], id);
+    r.dir[a] = gather(rays.dir[a], id);
+  }
+  r.tmin = tmin;
+  return r;
+}
+
+/// Triangle `lane` of block b against K rays (the block test's operations,
+/// with the triangle repeated over the rays): the lanes of `active` hit
+/// within [tmin, tmax).
+PT_ALWAYS_INLINE bool triangle_lanes(const TriangleBlock4& b, int lane, const TriangleLanes& r, vboolK active,
+                                     const vfloatK& tmax, LaneHits<vfloatK>& out) {
+  vfloatK v0[3], e1[3], e2[3];
+  for (int a = 0; a < 3; ++a) {
+    v0[a] = vfloatK(b.v0[a][lane]);
+    e1[a] = vfloatK(b.r1[a][lane]);
+    e2[a] = vfloatK(b.r2[a][lane]);
+  }
+  MtNumerators<vfloatK> n = mt_numerators(v0, e1, e2, r);
+  return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside & active, r.tmin, tmax, out,
+                      [](vboolK m) { return lane_mask(m) != 0; });
+}
+
+template <class C>
+inline void count_leaf(C& counters, const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t rays) {
+  if constexpr (C::kEnabled)
+    for (uint32_t b = 0; b < n_blocks; ++b)
+      for (int l = 0; l < 4; ++l) counters.primitives_tested(blocks[b].prim[l] != kInvalidId ? rays : 0);
+}
+
+/// Closest hits of the listed rays in a leaf, K rays at a time, every triangle
+/// in block order; improves `hits` where nearer.
+template <bool kTmin, class C>
+inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const HitArrays& hits,
+                         ListArena& arena, C& counters) {
+  const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
+  const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
+  count_leaf(counters, blocks, n_blocks, e.count);
+  const float* ids = arena.field(e, kId);
+  const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
+  for (uint32_t i = 0; i < e.count; i += kLanes) {
+    const uint32_t valid_lanes = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
+    const vintK id = load_ids(ids + i, valid_lanes);
+    const vboolK valid = lanes_of_mask(valid_lanes);
+    const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
+    vfloatK t = gather(hits.t, id), u(0.0f), v(0.0f);
+    vintK prim(-1);
+    vboolK found(false);
+    for (uint32_t b = 0; b < n_blocks; ++b)
+      for (int l = 0; l < 4; ++l) {
+        if (blocks[b].prim[l] == kInvalidId) continue;
+        LaneHits<vfloatK> h;
+        if (!triangle_lanes(blocks[b], l, r, valid, t, h)) continue;
+        t = xsimd::select(h.hit, h.t, t);
+        u = xsimd::select(h.hit, h.u, u);
+        v = xsimd::select(h.hit, h.v, v);
+        prim = xsimd::select(xsimd::bool_cast(h.hit), vintK(static_cast<int32_t>(blocks[b].prim[l])), prim);
+        found = found | h.hit;
+      }
+    if (uint32_t m = lane_mask(found)) {
+      alignas(64) int32_t lane_id[kLanes], lane_prim[kLanes];
+      alignas(64) float lane_t[kLanes], lane_u[kLanes], lane_v[kLanes];
+      id.store_aligned(lane_id);
+      prim.store_aligned(lane_prim);
+      t.store_aligned(lane_t);
+      u.store_aligned(lane_u);
+      v.store_aligned(lane_v);
+      for (; m; m &= m - 1) {
+        uint32_t l = std::countr_zero(m);
+        hits.store(static_cast<uint32_t>(lane_id[l]),
+                   Hit{lane_t[l], lane_u[l], lane_v[l], static_cast<uint32_t>(lane_prim[l])});
+      }
+    }
+  }
+}
+
+/// Any hit of the listed rays that are not yet blocked in a leaf; blocked rays
+/// get live tmax = -inf and blocked[i] = 1.
+template <bool kTmin, class C>
+inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, ListArena& arena, float* live_tmax,
+                     uint8_t* blocked, C& counters) {
+  const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
+  const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
+  count_leaf(counters, blocks, n_blocks, e.count);
+  const float* ids = arena.field(e, kId);
+  const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
+  for (uint32_t i = 0; i < e.count; i += kLanes) {
+    const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
+    const vintK id = load_ids(ids + i, valid);
+    const vfloatK tmax = gather(live_tmax, id);
+    const uint32_t live = valid & lane_mask(tmax != vfloatK(-INFINITY));
+    if (live == 0) continue;
+    const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
+    uint32_t hit = 0;
+    for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
+      for (int l = 0; l < 4 && hit != live; ++l) {
+        if (blocks[b].prim[l] == kInvalidId) continue;
+        LaneHits<vfloatK> h;
+        if (triangle_lanes(blocks[b], l, r, lanes_of_mask(live & ~hit), tmax, h)) hit |= lane_mask(h.hit);
+      }
+    if (hit == 0) continue;
+    alignas(64) int32_t lane_id[kLanes];
+    id.store_aligned(lane_id);
+    for (; hit; hit &= hit - 1) {
+      uint32_t r_id = static_cast<uint32_t>(lane_id[std::countr_zero(hit)]);
+      live_tmax[r_id] = -INFINITY;
+      blocked[r_id] = 1;
+    }
+  }
+}
+
+/// Closest hits of rays [0, rays.size) (at most kMaxStreamRays) into `hits`.
+template <bool kTmin, class C>
+inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, ListArena& arena,
+                           C& counters) {
+  ListEntry stack[kBvh4StackSize];
+  ListEntry* sp = stack;
+  *sp++ = root_list<kTmin>(bvh, rays, arena);
+  while (sp != stack) {
+    const ListEntry e = *--sp;
+    if (e.count < kStreamMinRays) {
+          const uint32_t* ids = arena.ids(e);
+      for (uint32_t i = 0; i < e.count; ++i) {
+        Hit h = hits.load(ids[i]);
+        if (bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, e.ref, rays.ray(ids[i]), h, counters))
+          hits.store(ids[i], h);
+      }
+    } else if (bvh4_ref::is_leaf(e.ref)) {
+      leaf_closest<kTmin>(bvh, e, rays, hits, arena, counters);
+    } else {
+      split_node<true, kTmin>(bvh, e, arena, hits.t, sp, counters);
+    }
+  }
+}
+
+/// Occlusion of rays [0, rays.size) (at most kMaxStreamRays): blocked rays get
+/// live_tmax = -inf and blocked = 1.
+template <bool kTmin, class C>
+inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax,
+                          ListArena& arena, C& counters) {
+  ListEntry stack[kBvh4StackSize];
+  ListEntry* sp = stack;
+  *sp++ = root_list<kTmin>(bvh, rays, arena);
+  while (sp != stack) {
+    const ListEntry e = *--sp;
+    if (e.count < kStreamMinRays) {
+      const uint32_t* ids = arena.ids(e);
+      for (uint32_t i = 0; i < e.count; ++i) {
+        const uint32_t r = ids[i];
+        if (live_tmax[r] == -INFINITY) continue;
+        if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, e.ref, rays.ray(r), counters)) {
+          live_tmax[r] = -INFINITY;
+          blocked[r] = 1;
+        }
+      }
+    } else if (bvh4_ref::is_leaf(e.ref)) {
+      leaf_any<kTmin>(bvh, e, rays, arena, live_tmax, blocked, counters);
+    } else {
+      split_node<false, kTmin>(bvh, e, arena, live_tmax, sp, counters);
+    }
+  }
+}
+
+/// Rays [begin, end) of a queue, with indices from 0.
+inline RayArrays part_of(const RayArrays& rays, size_t begin, size_t end) {
+  RayArrays p = rays;
+  for (int a = 0; a < 3; ++a) p.org[a] += begin, p.dir[a] += begin;
+  if (p.tmin) p.tmin += begin;
+  p.tmax += begin;
+  p.size = end - begin;
+  return p;
+}
+
+}  // namespace stream_detail
+
+/// Closest hits of every ray of the queue into `hits` (each as
+/// bvh4_intersect gives it), Moller-Trumbore leaves.
+template <class C>
+inline void bvh4_intersect_stream(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, QueueScratch& s,
+                                  C& counters) {
+  using namespace stream_detail;
+  for (size_t i = 0; i < rays.size; ++i) hits.store(i, Hit{rays.tmax[i], 0.0f, 0.0f, kInvalidId});
+  if (bvh.empty()) return;
+  ListArena arena(s);
+  for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
+    const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
+    const HitArrays out{hits.t + b, hits.u + b, hits.v + b, hits.prim + b};
+    if (has_tmin(part)) intersect_part<true>(bvh, part, out, arena, counters);
+    else intersect_part<false>(bvh, part, out, arena, counters);
+  }
+}
+
+/// blocked[i] = whether ray i of the queue is blocked (as bvh4_occluded),
+/// Moller-Trumbore leaves. blocked[i] set to 1 already counts as blocked.
+template <class C>
+inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, QueueScratch& s,
+                                 C& counters) {
+  using namespace stream_detail;
+  if (bvh.empty() || rays.size == 0) return;
+  s.tmax.resize(rays.size + kMaxLanes);
+  float* live_tmax = s.tmax.data();
+  for (size_t i = 0; i < rays.size; ++i) live_tmax[i] = blocked[i] ? -INFINITY : rays.tmax[i];
+  ListArena arena(s);
+  for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
+    const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
+    if (has_tmin(part)) occluded_part<true>(bvh, part, blocked + b, live_tmax + b, arena, counters);
+    else occluded_part<false>(bvh, part, blocked + b, live_tmax + b, arena, counters);
+  }
+}
+
+}  // namespace pt

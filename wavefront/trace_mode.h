@@ -1,0 +1,56 @@
+// How the wavefront traces its queues: every queue whole through the BVH's
+// queue tracer (the default), the coherent queues of the first bounce as
+// SIMD packets, or every ray on its own (the last two for comparison); and
+// the hook that receives a copy of every queue (ray dumps, benchmarks).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "kernels/math/ray.h"
+
+namespace pt::wf {
+
+enum class TraceMode {
+  kQueue,    ///< every queue whole through the queue tracer (bvh/bvh4_stream.h)
+  kPackets,  ///< camera rays and their shadow rays as SIMD packets, the other rays one by one
+  kSingle,   ///< every ray on its own
+};
+
+/// How one queue is traced.
+enum class QueueMethod { kQueue, kPackets, kSingle };
+
+/// The method of the queues of `depth` (0: camera rays and the shadow rays
+/// from their hits).
+inline QueueMethod method_for(TraceMode mode, uint32_t depth) {
+  switch (mode) {
+    case TraceMode::kQueue: return QueueMethod::kQueue;
+    case TraceMode::kPackets: return depth == 0 ? QueueMethod::kPackets : QueueMethod::kSingle;
+    case TraceMode::kSingle: break;
+  }
+  return QueueMethod::kSingle;
+}
+
+/// The queues a wave traces.
+enum class QueueKind {
+  kCamera,      ///< closest hit, depth 0
+  kBounce,      ///< closest hit, depth >= 1
+  kShadow,      ///< occlusion (light samples), from the hits of depth d
+  kHemisphere,  ///< closest hit (hemisphere and cosine estimators), from the hits of depth d
+};
+inline const char* queue_kind_name(QueueKind k) {
+  switch (k) {
+    case QueueKind::kCamera: return "camera";
+    case QueueKind::kBounce: return "bounce";
+    case QueueKind::kShadow: return "shadow";
+    case QueueKind::kHemisphere: return "hemisphere";
+  }
+  return "?";
+}
+
+/// Receives a copy of every queue a wave traces, just before it is traced;
+/// called from the worker threads, one wave at a time per thread.
+using QueueCapture = std::function<void(QueueKind kind, uint32_t depth, std::span<const Ray> rays)>;
+
+}  // namespace pt::wf
