@@ -12,7 +12,7 @@
 // with probability 0.95, so a density off by 1.3% (1.5%) of itself in every
 // bin, or by 21% (34%) in a single bin, is detected.
 // Closed-form comparisons: |mean - exact| <= 5 SE (false failure 5.7e-7 each),
-// with SE < 0.2% of the exact value, so that a 1.4% bias is detected with
+// with SE < 0.2% of the exact value, so that a 1.3% bias is detected with
 // probability 0.95 at the 5-sigma bound (measured SE 0.007-0.009%: 0.06%).
 #include <cmath>
 #include <cstdio>
