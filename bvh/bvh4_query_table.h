@@ -8,7 +8,8 @@
 
 #include "kernels/simd/isa.h"
 #include "kernels/math/ray.h"
-#include "ray_arrays.h"
+#include "kernels/math/ray_arrays.h"
+#include "queue_scratch.h"
 #include "traversal_counters.h"
 
 namespace pt {

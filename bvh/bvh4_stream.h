@@ -19,7 +19,8 @@
 #include <cstdint>
 
 #include "bvh4_traverse.h"
-#include "ray_arrays.h"
+#include "kernels/math/ray_arrays.h"
+#include "queue_scratch.h"
 
 #ifndef PT_ISA_NS
 #error "bvh4_stream.h is for code compiled once per instruction-set level"
@@ -155,8 +156,8 @@ inline constexpr uint32_t kMaxStreamRays = 4096;
 /// nearest hit so far, or -inf once blocked). kTmin: the list carries tmin
 /// (else every ray's tmin is 0).
 template <bool kOrdered, bool kTmin, class C>
-inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax,
-                                          ListEntry*& sp, C& counters) {
+inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax, ListEntry*& sp,
+                       C& counters) {
   constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
   const Bvh4Node& node = bvh.node(e.ref);
   counters.nodes_tested(e.count);
@@ -210,8 +211,7 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
       const uint32_t m = masks[j][k];
       if (m == 0) continue;
       const uint32_t i = j * kLanes;
-      for (uint32_t f = 0; f < kFields; ++f)
-        store_compressed(out[f] + written, m, vfloatK::load_unaligned(in[f] + i));
+      for (uint32_t f = 0; f < kFields; ++f) store_compressed(out[f] + written, m, vfloatK::load_unaligned(in[f] + i));
       written += std::popcount(m);
     }
     hit[n++] = {node.child[k], top, count[k], room, 0};
@@ -360,7 +360,7 @@ inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArra
   while (sp != stack) {
     const ListEntry e = *--sp;
     if (e.count < kStreamMinRays) {
-          const uint32_t* ids = arena.ids(e);
+      const uint32_t* ids = arena.ids(e);
       for (uint32_t i = 0; i < e.count; ++i) {
         Hit h = hits.load(ids[i]);
         if (bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, e.ref, rays.ray(ids[i]), h, counters))
@@ -377,8 +377,8 @@ inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArra
 /// Occlusion of rays [0, rays.size) (at most kMaxStreamRays): blocked rays get
 /// live_tmax = -inf and blocked = 1.
 template <bool kTmin, class C>
-inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax,
-                          ListArena& arena, C& counters) {
+inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, ListArena& arena,
+                          C& counters) {
   ListEntry stack[kBvh4StackSize];
   ListEntry* sp = stack;
   *sp++ = root_list<kTmin>(bvh, rays, arena);

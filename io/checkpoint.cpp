@@ -57,7 +57,7 @@ void save_checkpoint(const std::filesystem::path& path, const std::string& finge
   put(out, acc.samples_done);
   put(out, static_cast<uint64_t>(acc.pixels.size()));
   out.append(reinterpret_cast<const char*>(acc.pixels.data()), acc.pixels.size() * sizeof(PixelAccumulator));
-  put(out, fnv1a(out.data(), out.size()));
+  close_frame(out);
   write_file_atomically(path, out);
 }
 
@@ -68,13 +68,10 @@ std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, c
   // Header, fingerprint and checksum take far less than the slack allowed here.
   const uint64_t max_bytes = (uint64_t(1) << 20) + uint64_t(pixel_count) * sizeof(PixelAccumulator);
   std::string data = read_regular_file(path, "checkpoint", max_bytes);
-  auto corrupt = [&](const char* what) { return InputError(path.string() + ": not a usable checkpoint: " + what); };
-  if (data.size() < sizeof kMagic + 8 || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0)
-    throw corrupt("bad header");
-  uint64_t stored_sum = 0;
-  std::memcpy(&stored_sum, data.data() + data.size() - 8, 8);
-  if (fnv1a(data.data(), data.size() - 8) != stored_sum) throw corrupt("checksum mismatch");
-  std::string_view rest(data.data() + sizeof kMagic, data.size() - sizeof kMagic - 8);
+  auto corrupt = [&](const std::string& what) {
+    return InputError(path.string() + ": not a usable checkpoint: " + what);
+  };
+  std::string_view rest = frame_body(data, kMagic, corrupt);
   uint32_t fp_len = 0;
   if (!take(rest, fp_len) || rest.size() < fp_len) throw corrupt("truncated");
   if (rest.substr(0, fp_len) != fingerprint)

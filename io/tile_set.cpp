@@ -116,19 +116,14 @@ void save_tile_set(const std::filesystem::path& path, const TileSet& set) {
   append_stats(out, set.stats);
   put(out, static_cast<uint32_t>(set.tiles.size()));
   for (const TilePixels& t : set.tiles) append_tile(out, t);
-  put(out, fnv1a(out.data(), out.size()));
+  close_frame(out);
   write_file_atomically(path, out);
 }
 
 TileSet load_tile_set(const std::filesystem::path& path) {
   std::string data = read_regular_file(path, "tile set", kMaxTileSetBytes);
   auto bad = [&](const std::string& what) { return InputError(path.string() + ": not a usable tile set: " + what); };
-  if (data.size() < sizeof kMagic + 8 || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0)
-    throw bad("bad header (not written by --shard or --checkpoint under mpirun)");
-  uint64_t stored = 0;
-  std::memcpy(&stored, data.data() + data.size() - 8, 8);
-  if (fnv1a(data.data(), data.size() - 8) != stored) throw bad("checksum mismatch");
-  std::string_view in(data.data() + sizeof kMagic, data.size() - sizeof kMagic - 8);
+  std::string_view in = frame_body(data, kMagic, bad, " (not written by --shard or --checkpoint under mpirun)");
   TileSet set;
   TileSetHeader& h = set.header;
   uint32_t fp_len = 0, count = 0;

@@ -3,8 +3,8 @@
 // carry the index of their path.
 #pragma once
 
-#include "bvh/ray_arrays.h"
 #include "kernels/math/ray.h"
+#include "kernels/math/ray_arrays.h"
 #include "soa.h"
 
 namespace pt::wf {

@@ -7,7 +7,7 @@
 
 #include <cstddef>
 
-#include "bvh/ray_arrays.h"
+#include "bvh/queue_scratch.h"
 #include "material_queues.h"
 #include "streams.h"
 

@@ -1,7 +1,8 @@
 // Direct light from delta lights has no noise: a Lambertian surface of albedo
 // A under a directional or point light of colour E (CS184 semantics: incident
 // radiance E, pdf 1, no falloff) has radiance A / pi * E * cos(theta) exactly,
-// so these tests assert to float precision, for every engine. Point-light
+// so these tests assert to float precision (1e-6 or 1e-5 relative: any bias
+// above that fails, always; no statistics), for every engine. Point-light
 // cases use a camera with a field of view of 1e-6, so that every sample of a
 // pixel sees the same point (cos varies by < 1e-6 over the footprint). Also
 // exact zeros: shadowed points, the unlit side of a surface, and hemisphere

@@ -176,7 +176,10 @@ TEST(EngineAgreement, EveryLevelThisCpuRunsRendersTheSameImage) {
 }
 
 // Two renders with different seeds agree within noise
-// (test::expect_same_image_within_noise, statistics.h).
+// (test::expect_same_image_within_noise, statistics.h). Power, printed per
+// scene: the Stouffer bound detects a bias of 1.0% (CBempty) to 3.0% (the
+// microfacet spheres) with probability 0.95, 1.1% on cornell_spheres (where
+// the test below injects 2% and sees Z = -10.9).
 TEST(EngineAgreement, DifferentSeedsAgreeWithinNoise) {
   std::vector<std::string> scenes = {test::project_scene("cornell_spheres.dae").string(),
                                      test::project_scene("cornell_materials.dae").string()};

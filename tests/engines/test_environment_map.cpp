@@ -13,8 +13,11 @@
 // texel probabilities follow the dilated luminance times sin(theta), the
 // pdf is positive wherever radiance is, chi-square goodness of fit of
 // sample() against pdf() (2^20 samples, 16 x 32 bins in (cos theta, phi),
-// bins expecting < 5 pooled, significance level 1e-3) and an importance-
-// sampled hemisphere integral against quadrature within 4 standard errors.
+// bins expecting < 5 pooled, significance level 1e-3: with 511 (48 for the
+// bright texel's, most bins pooled) degrees of freedom a noncentrality of 171
+// (66) is rejected with probability 0.95, so a density off by 1.3% (0.8%) of
+// itself in every bin is detected) and an importance-sampled hemisphere
+// integral against quadrature within 4 standard errors (detects 1.2%).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -485,6 +488,9 @@ TEST(EnvironmentSampling, ChiSquareRejectsAWrongDensity) {
 // bilinear lookup lets it light) carries ~99.99% of the weight: the sampled
 // fractions inside that block and inside the texel itself match the
 // fractions the weights give within 5 binomial standard errors, and > 99% land in the block.
+// 2^20 samples: the texel's fraction (0.117) is checked to 5 SE of 0.27% of it,
+// so a 1.8% bias fails with probability 0.95; the block's (1 - 1.05e-4) to an
+// absolute 7e-5.
 TEST(EnvironmentSampling, SamplesConcentrateWhereTheBrightTexelIs) {
   const EnvironmentMap m = bright_map();
   const std::vector<double> p = expected_texel_probabilities(bright_texel_texels(kBw, kBh, kBi, kBj, 0.01f), kBw, kBh);
@@ -498,7 +504,7 @@ TEST(EnvironmentSampling, SamplesConcentrateWhereTheBrightTexelIs) {
       if (in_block(i, j)) want_block += p[size_t(j) * kBw + i];
   const double want_texel = p[size_t(kBj) * kBw + kBi];
 
-  const int n = 1 << 18;
+  const int n = 1 << 20;
   int block = 0, texel = 0;
   UniformSource u(43);
   for (int k = 0; k < n; ++k) {
@@ -517,13 +523,15 @@ TEST(EnvironmentSampling, SamplesConcentrateWhereTheBrightTexelIs) {
 }
 
 // Irradiance-like integral of L cos(theta) over the upper hemisphere: the
-// importance-sampled estimate against quadrature, |z| < 4 (two-sided 6e-5).
+// importance-sampled estimate against quadrature, |z| < 4 (two-sided 6e-5),
+// with SE below 0.35% of it, so that a 2% bias fails with probability 0.95
+// (4 + 1.645 SE); measured SE 0.22%: a 1.2% bias (and z = 1.0, 0.9, -0.3 for three seeds at 2^24 samples).
 TEST(EnvironmentSampling, ImportanceSampledHemisphereIntegralMatchesQuadrature) {
   const EnvironmentMap m = gradient_map();
   const double exact =
       integrate([&](double t, double p) { return double(illuminance(m.radiance(dir_at(t, p)))) * std::cos(t); }, 0,
                 kPiD / 2, 0, 2 * kPiD, kPiD / (2 * kGh), kPiD / kGw);
-  const int n = 1 << 18;
+  const int n = 1 << 19;
   std::vector<double> values(n);
   UniformSource u(47);
   for (int k = 0; k < n; ++k) {
@@ -531,7 +539,7 @@ TEST(EnvironmentSampling, ImportanceSampledHemisphereIntegralMatchesQuadrature) 
     values[k] = s.pdf > 0 && s.wi.y > 0 ? illuminance(s.radiance) * s.wi.y / s.pdf : 0.0;
   }
   const test::MeanError me = test::mean_and_error(values);
-  EXPECT_LT(me.standard_error, 0.01 * exact) << "too noisy to mean anything";
+  EXPECT_LT(me.standard_error, 0.0035 * exact) << "too noisy to see a 2% bias";
   EXPECT_LT(std::fabs(test::z_score(me, exact)), 4.0)
       << "estimate " << me.mean << " +- " << me.standard_error << ", quadrature " << exact;
   std::printf("hemisphere: estimate %.6f +- %.6f, quadrature %.6f\n", me.mean, me.standard_error, exact);

@@ -2,7 +2,8 @@
 // shading normal at the point it sees (interpolated and normalised on meshes,
 // not turned towards the viewer), black where the ray misses, with no light in
 // the scene. Cameras with a 1e-6 field of view make "the point a pixel sees"
-// exact, so the colours are checked to float precision, for every engine.
+// exact, so the colours are checked to float precision, for every engine:
+// nothing is estimated, so any error above 1e-5 relative fails, always.
 #include <string>
 
 #include <gtest/gtest.h>

@@ -3,7 +3,8 @@
 // first check without dividing by zero and never before its first batch;
 // samples at the edge of the unit square, grazing rays and degenerate
 // triangles never put NaN or infinity into the framebuffer, and no shared
-// scene discards a single invalid sample in any direct-lighting mode.
+// scene discards a single invalid sample in any direct-lighting mode. Every
+// check is exact (counts, finiteness, exact values): no bias bound applies.
 #include <cmath>
 #include <limits>
 

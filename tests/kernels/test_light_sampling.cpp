@@ -7,10 +7,15 @@
 // upper hemisphere. Point lights: exact direction and distance.
 //
 // Chi-square tests: 2^20 samples (fixed-seed mt19937), 16 x 16 or 16 x 32
-// bins plus an overflow bin of expected 0, significance level 1e-6.
+// bins plus an overflow bin of expected 0, significance level 1e-6. Power:
+// with 255 (511) degrees of freedom a noncentrality of 178 (238) is rejected
+// with probability 0.95, so a density off by 1.3% (1.5%) of itself in every
+// bin, or by 21% (34%) in a single bin, is detected.
 // Closed-form comparisons: |mean - exact| <= 5 SE (false failure 5.7e-7 each),
-// with SE < 0.2% of the exact value so that the comparison means something.
+// with SE < 0.2% of the exact value, so that a 1.3% bias is detected with
+// probability 0.95 at the 5-sigma bound (measured SE 0.007-0.009%: 0.06%).
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -143,6 +148,8 @@ TEST(AreaLightSampling, SolidAngleAndIrradianceMatchClosedForms) {
   EXPECT_LT(std::fabs(test::z_score(proj, projected)), test::kZ5) << proj.mean << " vs " << projected;
   EXPECT_LT(omega.standard_error, 2e-3 * solid_angle);
   EXPECT_LT(proj.standard_error, 2e-3 * projected);
+  std::printf("solid angle SE %.3g%%, projected SE %.3g%% of exact\n", 100 * omega.standard_error / solid_angle,
+              100 * proj.standard_error / projected);
 }
 
 // Facing only where dot(sample - p, direction) < 0, and never with a NaN or an

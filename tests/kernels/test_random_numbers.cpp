@@ -7,7 +7,10 @@
 // Every chi-square test: 2^20 values or pairs (4096 pixels x 256 samples),
 // 1024 bins (1-D: 1024 equal bins; 2-D: 32 x 32), about 1024 per bin,
 // significance level 1e-6 (false-failure probability 1e-6 per test, 1.3e-5 for
-// the 13 of this file). Each runs in a few milliseconds.
+// the 13 of this file). Power: with 1023 degrees of freedom a noncentrality of
+// 323 is rejected with probability 0.95, so a density (or joint density) off
+// by 1.8% of itself in every bin, or by 56% in a single bin, is detected. The
+// other tests are exact. Each runs in a few milliseconds.
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -7,7 +7,10 @@
 // cos(theta) x 32 bins in phi (512 bins, about 2048 samples each) plus one
 // overflow bin of expected count 0, and rejection at significance level 1e-6:
 // a correct sampler fails with probability 1e-6 (over the choice of seed).
-// Each runs in about 30 ms.
+// Power: with 511 degrees of freedom a noncentrality N sum (p' - p)^2 / p of
+// 238 is rejected with probability 0.95, so a density off by 1.5% of itself
+// in every bin (more in some, less in others), or by 34% in a single bin, is
+// detected. Each runs in about 30 ms.
 #include <cmath>
 #include <numbers>
 #include <vector>

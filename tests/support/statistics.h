@@ -75,6 +75,14 @@ inline constexpr double kZ1e5 = 4.42;
 /// not drowned by a few very noisy pixels (the edges of a visible light).
 double stouffer_z(const Film& a, const Film& b);
 
+/// The smallest relative bias of a against b (a's radiance scaled by 1 +
+/// bias in its noisy pixels) that moves stouffer_z beyond 5 with probability
+/// 0.95: (5 + kZ95) sqrt(count) / sum of Y_a / sqrt(var_a + var_b) over the
+/// pixels with noise. Pixels whose standard error is below 1e-4 of their value
+/// are left out of the sum (they still count): rounding noise on an exact
+/// value (a light or the sky seen directly) would claim a bias of 1e-8.
+double stouffer_detectable_bias(const Film& a, const Film& b);
+
 /// Asserts that a and b estimate the same image (renders with different
 /// seeds, or of equivalent scenes): per pixel z = (Y_a - Y_b) / sqrt(var_a +
 /// var_b) on illuminance, with var each pixel's variance of the mean. Under
@@ -83,7 +91,8 @@ double stouffer_z(const Film& a, const Film& b);
 /// independent pixels), none beyond 6.5 (Bonferroni at 1e-10 / N: a single
 /// badly wrong pixel), |stouffer_z| < 5 (two-sided 6e-7: a bias too small to
 /// show in single pixels), and noiseless pixels (variance 0 in both) equal
-/// within 1e-6 relative. Nonfatal; prints the statistics.
+/// within 1e-6 relative. Nonfatal; prints the statistics and the smallest
+/// bias the Stouffer bound detects (stouffer_detectable_bias).
 void expect_same_image_within_noise(const Film& a, const Film& b, const std::string& what);
 
 /// A copy of `film` with every radiance multiplied by `factor` (power checks).

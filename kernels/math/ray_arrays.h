@@ -1,13 +1,12 @@
-// Queues of rays and their answers as separate arrays (structure of arrays),
-// the form in which the wavefront holds them: what the BVH4's queue tracer
-// reads and writes, and the per-thread scratch it reuses from queue to queue.
+// Queues of rays and their closest hits as separate arrays (structure of
+// arrays), the form in which the wavefront holds them and the BVH4's queue
+// tracer reads and writes them.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
-#include <vector>
 
-#include "kernels/math/ray.h"
+#include "ray.h"
 
 namespace pt {
 
@@ -41,16 +40,6 @@ struct HitArrays {
     prim[i] = h.prim;
   }
   Hit load(size_t i) const { return {t[i], u[i], v[i], prim[i]}; }
-};
-
-/// What the queue tracer keeps between queues on one thread: the lists it
-/// splits a queue into and each ray's current tmax. Reused, so that a render
-/// allocates it once per thread.
-struct QueueScratch {
-  std::vector<uint32_t> ids;  ///< the lists of rays, one after the other (bvh4_stream.h)
-  std::vector<float> tmax;    ///< any hit: the ray's tmax, -inf once blocked
-
-  size_t bytes() const { return ids.capacity() * sizeof(uint32_t) + tmax.capacity() * sizeof(float); }
 };
 
 }  // namespace pt
