@@ -1,0 +1,258 @@
+// The queue tracer (SceneBvh4::intersect / occluded over RayArrays, bvh4_stream.h)
+// at the instruction-set level in use, against the single-ray queries, ray by
+// ray and bit for bit: the same t, u, v and primitive for every ray, except
+// that of two different triangles at exactly the same t either may be
+// reported (counted, and required to be rare); the same occlusion answer for
+// every shadow ray. Every queue length around the lane width and the stream's
+// part size; coherent, incoherent and shuffled rays; rays with tmin > 0;
+// untraceable rays; spheres; the watertight form; a tree deep enough that
+// lists thin out and go on ray by ray; nothing written past a queue.
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "bvh/scene_bvh4.h"
+#include "support/bvh4_support.h"
+#include "support/test_support.h"
+
+namespace pt::test {
+namespace {
+
+const Hit kSentinel{-7.0f, -7.0f, -7.0f, 0xDEADBEEFu};
+constexpr uint8_t kUnwritten = 7;
+
+size_t lanes() { return isa_lanes(active_isa()); }
+
+Scene built_in_scene() { return load_collada_file(project_scene("cornell_spheres.dae")).scene; }
+
+/// A queue of rays as arrays, with one entry of slack past the end on every
+/// output so that writes past the queue show.
+struct Queue {
+  std::array<std::vector<float>, 8> field;  // ox, oy, oz, tmin, dx, dy, dz, tmax
+  std::vector<float> t, u, v;
+  std::vector<uint32_t> prim;
+  std::vector<uint8_t> blocked;
+  size_t n = 0;
+
+  explicit Queue(std::span<const Ray> rays) : n(rays.size()) {
+    for (std::vector<float>& f : field) f.resize(n + 1, NAN);
+    for (size_t i = 0; i < n; ++i) {
+      const Ray& r = rays[i];
+      const float f[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
+      for (int k = 0; k < 8; ++k) field[k][i] = f[k];
+    }
+    t.assign(n + 1, kSentinel.t), u.assign(n + 1, kSentinel.u), v.assign(n + 1, kSentinel.v);
+    prim.assign(n + 1, kSentinel.prim);
+    blocked.assign(n + 1, kUnwritten);
+  }
+  RayArrays rays(bool with_tmin = true) const {
+    return {{field[0].data(), field[1].data(), field[2].data()},
+            {field[4].data(), field[5].data(), field[6].data()},
+            with_tmin ? field[3].data() : nullptr,
+            field[7].data(),
+            n};
+  }
+  HitArrays hits() { return {t.data(), u.data(), v.data(), prim.data()}; }
+  Hit hit(size_t i) const { return {t[i], u[i], v[i], prim[i]}; }
+};
+
+bool same_bits(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
+
+/// Traces `rays` as one queue, closest hit and any hit, and compares every
+/// ray with the single-ray queries. Returns the number of exact ties
+/// reported as the other triangle. `scratch` is reused across calls, as a
+/// render reuses it.
+size_t expect_queue_matches_single_rays(const SceneBvh4& bvh, std::span<const Ray> rays, QueueScratch& scratch,
+                                        const std::string& what) {
+  Queue q(rays);
+  bvh.intersect(q.rays(), q.hits(), scratch);
+  bvh.occluded(q.rays(), q.blocked.data(), scratch);
+  size_t ties = 0, bad = 0;
+  for (size_t i = 0; i < rays.size() && bad < 10; ++i) {
+    Hit single;
+    bvh.intersect(rays[i], single);
+    const Hit got = q.hit(i);
+    if (single.prim != got.prim && single.valid() && got.valid() && single.t == got.t) {
+      ++ties;  // two triangles at exactly the same t: either is the closest hit
+    } else if (!same_bits(single, got)) {
+      ++bad;
+      ADD_FAILURE() << what << ": ray " << i << " got t " << got.t << " prim " << got.prim << ", alone t "
+                    << single.t << " prim " << single.prim;
+    }
+    const bool blocked = bvh.occluded(rays[i]);
+    if (q.blocked[i] != uint8_t(blocked)) {
+      ++bad;
+      ADD_FAILURE() << what << ": ray " << i << " blocked " << int(q.blocked[i]) << ", alone " << blocked;
+    }
+  }
+  EXPECT_TRUE(same_bits(q.hit(rays.size()), kSentinel)) << what << ": wrote past the queue";
+  EXPECT_EQ(q.blocked[rays.size()], kUnwritten) << what << ": wrote past the queue";
+  return ties;
+}
+
+/// Rays of every kind over a scene: camera rays (coherent), diffuse and
+/// shadow rays from their hits in the camera rays' order and shuffled, and
+/// uniformly random rays (mixed direction signs, from anywhere).
+std::vector<std::pair<std::string, std::vector<Ray>>> ray_kinds(const Scene& s, const SceneBvh4& bvh, int w, int h) {
+  std::vector<Ray> camera = camera_rays(s, w, h);
+  std::vector<Hit> first(camera.size());
+  for (size_t i = 0; i < camera.size(); ++i) bvh.intersect(camera[i], first[i]);
+  return {{"camera", camera},
+          {"diffuse", diffuse_rays(s, camera, first, 3)},
+          {"shadow", shadow_rays(s, camera, first, 4)},
+          {"diffuse shuffled", diffuse_rays(s, camera, first, 3, true)},
+          {"shadow shuffled", shadow_rays(s, camera, first, 4, true)},
+          {"random", uniform_random_rays(s, 3000, 5)}};
+}
+
+void expect_every_kind_matches(const Scene& s, const std::string& name, int w, int h) {
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  size_t ties = 0, total = 0;
+  for (const auto& [kind, rays] : ray_kinds(s, bvh, w, h)) {
+    ties += expect_queue_matches_single_rays(bvh, rays, scratch, name + ", " + kind);
+    total += rays.size();
+  }
+  EXPECT_LE(ties, std::max<size_t>(2, total / 10000)) << name << ": " << ties << " exact ties of " << total;
+}
+
+TEST(Bvh4Queue, EveryRayKindMatchesSingleRaysBitForBit) {
+  expect_every_kind_matches(built_in_scene(), "built-in Cornell box", 64, 48);  // spheres too
+  expect_every_kind_matches(tessellated_sphere(5, {0, 0, 0}, 1.0f), "tessellated sphere", 64, 48);
+}
+
+TEST(Bvh4Queue, SharedScenesMatchSingleRaysBitForBit) {
+  PT_REQUIRE_SHARED_SCENES();
+  for (const char* name : {"CBbunny.dae", "CBgems.dae", "teapot.dae"})
+    expect_every_kind_matches(load_collada_file(shared_scene(name)).scene, name, 96, 72);
+}
+
+TEST(Bvh4Queue, ADeepTreeWhoseListsThinOutMatchesSingleRays) {
+  // 81,920 triangles in a sphere: rays from inside part ways after a few
+  // levels, so that lists fall below the stream's minimum and go on alone.
+  Scene sphere = tessellated_sphere(6, {0, 0, 0}, 1.0f);
+  SceneBvh4 bvh(sphere);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(sphere, 9000, 17);
+  for (Ray& r : rays) r.org = r.org * 0.5f;  // inside
+  size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "inside a fine sphere");
+  EXPECT_LE(ties, 2u);
+  Queue q(rays);
+  bvh.intersect(q.rays(), q.hits(), scratch);
+  int hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) hits += q.hit(i).valid();
+  EXPECT_EQ(hits, int(rays.size()));  // a closed mesh: every ray from inside hits it
+}
+
+TEST(Bvh4Queue, EveryQueueLengthAroundTheLaneWidthAndThePartSize) {
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(s, 9000, 8);
+  std::vector<size_t> lengths = {0, 1, 2, 100, 4095, 4096, 4097, 8193, 9000};
+  for (size_t n = lanes() - 1; n <= 2 * lanes() + 1; ++n) lengths.push_back(n);
+  for (size_t n : lengths)
+    expect_queue_matches_single_rays(bvh, std::span<const Ray>(rays).first(n), scratch,
+                                     "queue of " + std::to_string(n));
+}
+
+TEST(Bvh4Queue, RaysThatStartPastTheirOriginMatchSingleRays) {
+  // tmin > 0 on some rays: the lists carry tmin, which the node and triangle
+  // tests must honour (a ray must not find what lies before its tmin).
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(s, 3000, 12);
+  std::mt19937 rng(4);
+  for (size_t i = 0; i < rays.size(); i += 2) rays[i].tmin = std::uniform_real_distribution<float>(0.0f, 1.5f)(rng);
+  expect_queue_matches_single_rays(bvh, rays, scratch, "tmin > 0");
+  int skipped = 0;  // some rays really do skip a nearer surface
+  for (size_t i = 0; i < rays.size(); i += 2) {
+    Ray from_zero = rays[i];
+    from_zero.tmin = 0.0f;
+    Hit a, b;
+    bvh.intersect(rays[i], a);
+    bvh.intersect(from_zero, b);
+    skipped += a.valid() && b.valid() && a.t > b.t;
+  }
+  EXPECT_GT(skipped, 100);
+}
+
+TEST(Bvh4Queue, NullTminMeansZero) {
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(s, 500, 13);
+  Queue with(rays), without(rays);
+  bvh.intersect(with.rays(true), with.hits(), scratch);
+  bvh.intersect(without.rays(false), without.hits(), scratch);
+  bvh.occluded(with.rays(true), with.blocked.data(), scratch);
+  bvh.occluded(without.rays(false), without.blocked.data(), scratch);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_TRUE(same_bits(with.hit(i), without.hit(i))) << "ray " << i;
+    EXPECT_EQ(with.blocked[i], without.blocked[i]) << "ray " << i;
+  }
+}
+
+TEST(Bvh4Queue, UntraceableRaysMissAndSpareTheOthers) {
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(s, 64, 3);
+  rays[1].org.x = NAN;
+  rays[2].dir.y = INFINITY;
+  rays[3].tmin = NAN;
+  rays[4].tmax = -1.0f;  // empty range
+  rays[5].dir = float3{0.0f};
+  rays[6].tmax = NAN;
+  expect_queue_matches_single_rays(bvh, rays, scratch, "untraceable rays");
+  Queue q(rays);
+  bvh.intersect(q.rays(), q.hits(), scratch);
+  bvh.occluded(q.rays(), q.blocked.data(), scratch);
+  for (size_t i = 1; i <= 6; ++i) {
+    EXPECT_FALSE(q.hit(i).valid()) << "ray " << i;
+    EXPECT_EQ(q.blocked[i], 0) << "ray " << i;
+  }
+}
+
+TEST(Bvh4Queue, OcclusionAnswersDoNotDependOnWhatTheOutputHeld) {
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(s, 2000, 14);
+  Queue zeros(rays), ones(rays);
+  std::fill(zeros.blocked.begin(), zeros.blocked.end() - 1, 0);
+  std::fill(ones.blocked.begin(), ones.blocked.end() - 1, 1);
+  bvh.occluded(zeros.rays(), zeros.blocked.data(), scratch);
+  bvh.occluded(ones.rays(), ones.blocked.data(), scratch);
+  EXPECT_EQ(zeros.blocked, ones.blocked);
+}
+
+TEST(Bvh4Queue, WatertightFormMatchesSingleRays) {
+  Scene s = built_in_scene();
+  Bvh4Options watertight;
+  watertight.watertight = true;
+  SceneBvh4 bvh(s, watertight);
+  QueueScratch scratch;
+  expect_queue_matches_single_rays(bvh, uniform_random_rays(s, 2000, 15), scratch, "watertight");
+}
+
+TEST(Bvh4Queue, AnEmptySceneHitsNothing) {
+  Scene empty;
+  SceneBvh4 bvh(empty);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(built_in_scene(), 100, 16);
+  Queue q(rays);
+  bvh.intersect(q.rays(), q.hits(), scratch);
+  bvh.occluded(q.rays(), q.blocked.data(), scratch);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_TRUE(same_bits(q.hit(i), Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId})) << "ray " << i;
+    EXPECT_EQ(q.blocked[i], 0) << "ray " << i;
+  }
+}
+
+}  // namespace
+}  // namespace pt::test
