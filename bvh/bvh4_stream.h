@@ -4,9 +4,10 @@
 // SIMD instruction, and the rays that enter it are compacted into the child's
 // list, each with the constants of its slab test, so that the next level
 // loads them as vectors. A leaf that many rays reach tests each of its
-// triangles against K rays at a time. A list that has thinned below
-// kStreamMinRays goes on ray by ray with the single-ray traversal
-// (bvh4_traverse.h), from that node and under each ray's current nearest hit.
+// triangles against K rays at a time. The rays of a list that has thinned
+// below kStreamMinRays go on alone from that node: their walks are collected
+// and run kWalksInFlight at a time, interleaved (bvh4_interleaved.h), each
+// under its ray's nearest hit at the time it starts.
 // Every ray gets the hit it gets alone, bit for bit: the triangle test does
 // the same operations per lane as the block test, and a leaf's triangles are
 // taken in the block test's order. Only which of two different triangles at
@@ -18,6 +19,7 @@
 #include <bit>
 #include <cstdint>
 
+#include "bvh4_interleaved.h"
 #include "bvh4_traverse.h"
 #include "kernels/math/ray_arrays.h"
 #include "queue_scratch.h"
@@ -30,7 +32,7 @@ namespace pt {
 namespace stream_detail {
 
 /// Rays a list needs for its node or leaf to be tested across rays.
-inline constexpr uint32_t kStreamMinRays = kLanes == 16 ? 32 : kLanes == 8 ? 4 : 2;
+inline constexpr uint32_t kStreamMinRays = kLanes == 16 ? 8 : kLanes == 8 ? 4 : 2;
 
 /// The fields of a list, each an array of `room` 32-bit words: the ray's index
 /// in the queue, then the constants of its slab test (NodeRay's) and its tmin.
@@ -350,10 +352,62 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
   }
 }
 
+/// Walks left to single rays that run at once (in flight, interleaved), and
+/// how many are collected before they run.
+inline constexpr int kWalksInFlight = 8;
+inline constexpr size_t kWalkBatch = 64;
+
+/// Runs the collected closest-hit walks (rays that go on alone below a node)
+/// kWalksInFlight at a time; a walk that finds a nearer hit than its ray has
+/// by then improves it.
+template <class C>
+inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, QueueScratch& s,
+                              C& counters) {
+  size_t next = 0;
+  bvh4_intersect_interleaved<TriangleForm::kMollerTrumbore, kWalksInFlight>(
+      bvh,
+      [&](Ray& r, uint32_t& from, Hit& h, uint32_t& tag) {
+        if (next == s.alone.size()) return false;
+        const auto [id, ref] = s.alone[next++];
+        r = rays.ray(id), from = ref, h = hits.load(id), tag = id;
+        return true;
+      },
+      [&](uint32_t id, const Hit& h, bool found) {
+        if (found && h.t < hits.t[id]) hits.store(id, h);
+      },
+      counters);
+  s.alone.clear();
+}
+
+/// Runs the collected any-hit walks of rays not yet blocked.
+template <class C>
+inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, QueueScratch& s,
+                          C& counters) {
+  size_t next = 0;
+  bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, kWalksInFlight>(
+      bvh,
+      [&](Ray& r, uint32_t& from, uint32_t& tag) {
+        while (next < s.alone.size()) {
+          const auto [id, ref] = s.alone[next++];
+          if (live_tmax[id] == -INFINITY) continue;
+          r = rays.ray(id), from = ref, tag = id;
+          return true;
+        }
+        return false;
+      },
+      [&](uint32_t id, bool b) {
+        if (!b) return;
+        live_tmax[id] = -INFINITY;
+        blocked[id] = 1;
+      },
+      counters);
+  s.alone.clear();
+}
+
 /// Closest hits of rays [0, rays.size) (at most kMaxStreamRays) into `hits`.
 template <bool kTmin, class C>
 inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, ListArena& arena,
-                           C& counters) {
+                           QueueScratch& s, C& counters) {
   ListEntry stack[kBvh4StackSize];
   ListEntry* sp = stack;
   *sp++ = root_list<kTmin>(bvh, rays, arena);
@@ -361,24 +415,22 @@ inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArra
     const ListEntry e = *--sp;
     if (e.count < kStreamMinRays) {
       const uint32_t* ids = arena.ids(e);
-      for (uint32_t i = 0; i < e.count; ++i) {
-        Hit h = hits.load(ids[i]);
-        if (bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, e.ref, rays.ray(ids[i]), h, counters))
-          hits.store(ids[i], h);
-      }
+      for (uint32_t i = 0; i < e.count; ++i) s.alone.push_back({ids[i], e.ref});
+      if (s.alone.size() >= kWalkBatch) run_closest_walks(bvh, rays, hits, s, counters);
     } else if (bvh4_ref::is_leaf(e.ref)) {
       leaf_closest<kTmin>(bvh, e, rays, hits, arena, counters);
     } else {
       split_node<true, kTmin>(bvh, e, arena, hits.t, sp, counters);
     }
   }
+  run_closest_walks(bvh, rays, hits, s, counters);
 }
 
 /// Occlusion of rays [0, rays.size) (at most kMaxStreamRays): blocked rays get
 /// live_tmax = -inf and blocked = 1.
 template <bool kTmin, class C>
 inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, ListArena& arena,
-                          C& counters) {
+                          QueueScratch& s, C& counters) {
   ListEntry stack[kBvh4StackSize];
   ListEntry* sp = stack;
   *sp++ = root_list<kTmin>(bvh, rays, arena);
@@ -386,20 +438,16 @@ inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* block
     const ListEntry e = *--sp;
     if (e.count < kStreamMinRays) {
       const uint32_t* ids = arena.ids(e);
-      for (uint32_t i = 0; i < e.count; ++i) {
-        const uint32_t r = ids[i];
-        if (live_tmax[r] == -INFINITY) continue;
-        if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, e.ref, rays.ray(r), counters)) {
-          live_tmax[r] = -INFINITY;
-          blocked[r] = 1;
-        }
-      }
+      for (uint32_t i = 0; i < e.count; ++i)
+        if (live_tmax[ids[i]] != -INFINITY) s.alone.push_back({ids[i], e.ref});
+      if (s.alone.size() >= kWalkBatch) run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
     } else if (bvh4_ref::is_leaf(e.ref)) {
       leaf_any<kTmin>(bvh, e, rays, arena, live_tmax, blocked, counters);
     } else {
       split_node<false, kTmin>(bvh, e, arena, live_tmax, sp, counters);
     }
   }
+  run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
 }
 
 /// Rays [begin, end) of a queue, with indices from 0.
@@ -426,8 +474,8 @@ inline void bvh4_intersect_stream(const Bvh4& bvh, const RayArrays& rays, const 
   for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
     const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
     const HitArrays out{hits.t + b, hits.u + b, hits.v + b, hits.prim + b};
-    if (has_tmin(part)) intersect_part<true>(bvh, part, out, arena, counters);
-    else intersect_part<false>(bvh, part, out, arena, counters);
+    if (has_tmin(part)) intersect_part<true>(bvh, part, out, arena, s, counters);
+    else intersect_part<false>(bvh, part, out, arena, s, counters);
   }
 }
 
@@ -444,8 +492,8 @@ inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t
   ListArena arena(s);
   for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
     const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
-    if (has_tmin(part)) occluded_part<true>(bvh, part, blocked + b, live_tmax + b, arena, counters);
-    else occluded_part<false>(bvh, part, blocked + b, live_tmax + b, arena, counters);
+    if (has_tmin(part)) occluded_part<true>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
+    else occluded_part<false>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
   }
 }
 

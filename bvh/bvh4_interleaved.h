@@ -1,0 +1,214 @@
+// Single-ray walks of the 4-wide BVH with many in flight per thread: K walk
+// states are interleaved, each step advances one walk by one node or one leaf,
+// and the node or leaf that walk needs next starts loading at the end of its
+// step, so that it has arrived by the walk's next turn (asynchronous memory
+// access chaining). A walk is a ray below some node under a nearest hit so
+// far (the queue tracer's rays that go on alone); each walks the subtree
+// exactly as bvh4_traverse.h walks it (same child order, same pruning), so
+// it finds the same hit. Pays where a walk waits on memory: subtrees larger
+// than the caches.
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+
+#include "bvh4_traverse.h"
+
+namespace pt {
+
+/// Starts loading a node (both lines) or a leaf's first block.
+PT_ALWAYS_INLINE void prefetch_target(const Bvh4& bvh, uint32_t ref) {
+  if (bvh4_ref::is_leaf(ref)) {
+    const char* p = reinterpret_cast<const char*>(bvh.leaf_blocks(ref));
+    prefetch_l1(p);
+    prefetch_l1(p + 64);
+    prefetch_l1(p + 128);
+  } else {
+    const char* p = reinterpret_cast<const char*>(&bvh.node(ref));
+    prefetch_l1(p);
+    prefetch_l1(p + 64);
+  }
+}
+
+namespace interleaved_detail {
+
+inline constexpr uint32_t kNoRay = 0xFFFFFFFFu;
+
+template <TriangleForm F>
+struct ClosestState {
+  NodeRay nr;
+  typename BlockTest<F>::RayConstants br;
+  vfloat4 tmin, vtmax;
+  Hit hit;
+  float tmax, t_start;
+  uint32_t cur;
+  uint32_t ray = kNoRay;
+  Bvh4StackEntry* sp;
+  Bvh4StackEntry stack[kBvh4StackSize];
+};
+
+template <TriangleForm F>
+struct AnyState {
+  NodeRay nr;
+  typename BlockTest<F>::RayConstants br;
+  vfloat4 tmin, vtmax;
+  uint32_t cur;
+  uint32_t ray = kNoRay;
+  uint32_t* sp;
+  uint32_t stack[kBvh4StackSize];
+};
+
+/// One closest-hit step of state s: one inner node, or one leaf and the pop
+/// after it. False when the ray's walk is over.
+template <TriangleForm F, class C>
+PT_ALWAYS_INLINE bool closest_step(const Bvh4& bvh, ClosestState<F>& s, C& counters) {
+  uint32_t cur = s.cur;
+  if (!bvh4_ref::is_leaf(cur)) {
+    counters.node();
+    const Bvh4Node& node = bvh.node(cur);
+    vfloat4 tnear;
+    uint32_t mask = intersect_node(node, s.nr, s.tmin, s.vtmax, tnear);
+    if (mask != 0) {
+      alignas(16) float d[4];
+      tnear.store_aligned(d);
+      uint32_t i0 = std::countr_zero(mask);
+      mask &= mask - 1;
+      if (mask == 0) {
+        cur = node.child[i0];
+      } else {
+        uint32_t i1 = std::countr_zero(mask);
+        mask &= mask - 1;
+        if (mask == 0) {
+          bool first_near = d[i0] <= d[i1];
+          *s.sp++ = first_near ? Bvh4StackEntry{node.child[i1], d[i1]} : Bvh4StackEntry{node.child[i0], d[i0]};
+          cur = first_near ? node.child[i0] : node.child[i1];
+        } else {
+          cur = push_sorted_pop_nearest(bvh, node, i0, i1, mask, d, s.sp);
+        }
+      }
+      s.cur = cur;
+      prefetch_target(bvh, cur);
+      return true;
+    }
+  } else {
+    intersect_leaf_closest<F>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), s.br, s.tmax, s.vtmax, s.hit,
+                              counters);
+  }
+  do {
+    if (s.sp == s.stack) return false;
+    --s.sp;
+  } while (s.sp->dist > s.tmax);
+  s.cur = s.sp->ref;
+  prefetch_target(bvh, s.cur);
+  return true;
+}
+
+/// One any-hit step of state s. False when the walk is over; `blocked` says
+/// whether it ended on an occluder.
+template <TriangleForm F, class C>
+PT_ALWAYS_INLINE bool any_step(const Bvh4& bvh, AnyState<F>& s, bool& blocked, C& counters) {
+  uint32_t cur = s.cur;
+  if (!bvh4_ref::is_leaf(cur)) {
+    counters.node();
+    const Bvh4Node& node = bvh.node(cur);
+    vfloat4 tnear;
+    uint32_t mask = intersect_node(node, s.nr, s.tmin, s.vtmax, tnear);
+    if (mask != 0) {
+      for (;;) {
+        cur = node.child[std::countr_zero(mask)];
+        mask &= mask - 1;
+        if (mask == 0) break;
+        *s.sp++ = cur;
+        prefetch_ref(bvh, cur);
+      }
+      s.cur = cur;
+      prefetch_target(bvh, cur);
+      return true;
+    }
+  } else if (leaf_occludes<F>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), s.br, s.vtmax, counters)) {
+    blocked = true;
+    return false;
+  }
+  if (s.sp == s.stack) return false;
+  s.cur = *--s.sp;
+  prefetch_target(bvh, s.cur);
+  return true;
+}
+
+}  // namespace interleaved_detail
+
+/// Walks for closest hits, K in flight: next(ray, start, hit, tag) gives the
+/// next walk (ray below node `start` under nearest hit `hit`; false when there
+/// is none); done(tag, hit, found) receives its end (found: a nearer hit).
+template <TriangleForm F, int K, class Next, class Done, class C>
+inline void bvh4_intersect_interleaved(const Bvh4& bvh, Next&& next, Done&& done, C& counters) {
+  using namespace interleaved_detail;
+  ClosestState<F> states[K];
+  auto start = [&](ClosestState<F>& s) {
+    Ray r;
+    uint32_t from, tag;
+    if (!next(r, from, s.hit, tag)) {
+      s.ray = kNoRay;
+      return false;
+    }
+    s.nr = NodeRay(r);
+    s.br = typename BlockTest<F>::RayConstants(r);
+    s.tmin = vfloat4(r.tmin);
+    s.tmax = s.t_start = s.hit.t;
+    s.vtmax = vfloat4(s.tmax);
+    s.cur = from;
+    s.sp = s.stack;
+    s.ray = tag;
+    prefetch_target(bvh, from);
+    return true;
+  };
+  int live = 0;
+  for (ClosestState<F>& s : states) live += start(s);
+  while (live > 0) {
+    for (ClosestState<F>& s : states) {
+      if (s.ray == kNoRay) continue;
+      if (closest_step<F>(bvh, s, counters)) continue;
+      done(s.ray, s.hit, s.tmax < s.t_start);
+      if (!start(s)) --live;
+    }
+  }
+}
+
+/// Walks for any hit, K in flight: next(ray, start, tag) gives the next walk
+/// (false when there is none); done(tag, blocked) receives its end.
+template <TriangleForm F, int K, class Next, class Done, class C>
+inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done, C& counters) {
+  using namespace interleaved_detail;
+  AnyState<F> states[K];
+  auto start = [&](AnyState<F>& s) {
+    Ray r;
+    uint32_t from, tag;
+    if (!next(r, from, tag)) {
+      s.ray = kNoRay;
+      return false;
+    }
+    s.nr = NodeRay(r);
+    s.br = typename BlockTest<F>::RayConstants(r);
+    s.tmin = vfloat4(r.tmin);
+    s.vtmax = vfloat4(r.tmax);
+    s.cur = from;
+    s.sp = s.stack;
+    s.ray = tag;
+    prefetch_target(bvh, from);
+    return true;
+  };
+  int live = 0;
+  for (AnyState<F>& s : states) live += start(s);
+  while (live > 0) {
+    for (AnyState<F>& s : states) {
+      if (s.ray == kNoRay) continue;
+      bool blocked = false;
+      if (any_step<F>(bvh, s, blocked, counters)) continue;
+      done(s.ray, blocked);
+      if (!start(s)) --live;
+    }
+  }
+}
+
+}  // namespace pt
