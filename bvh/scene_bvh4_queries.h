@@ -4,6 +4,7 @@
 // tested after the BVH walk (closest hit) or before it (any hit).
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
@@ -113,15 +114,46 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   }
 }
 
+/// Whether a queue comes in runs of K rays from one origin in nearly one
+/// direction (a pinhole camera's rays: a pixel's samples and its
+/// neighbours'), which packets trace faster than a stream does (their
+/// subtrees, entered by all K rays, are tested once per packet, not once per
+/// list): so say its first four runs.
+inline bool in_coherent_runs(const RayArrays& rays) {
+  if (rays.size < 4 * kLanes) return false;
+  for (size_t p = 0; p < 4 * kLanes; p += kLanes) {
+    const Ray first = rays.ray(p);
+    const float first_len = length(first.dir);
+    for (size_t i = p + 1; i < p + kLanes; ++i) {
+      const Ray r = rays.ray(i);
+      if (!(r.org == first.org) || !(dot(r.dir, first.dir) > 0.999f * length(r.dir) * first_len)) return false;
+    }
+  }
+  return true;
+}
+
 /// Closest hits of a whole queue: hits as intersect() gives them, ray by ray.
+/// Traced as packets of K rays when the queue comes in coherent runs, as a
+/// stream otherwise (and ray by ray in the watertight form).
 template <class C>
 inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
                             C& c) {
-  if (s.bvh().form != TriangleForm::kMollerTrumbore) {
-    for (size_t i = 0; i < rays.size; ++i) {
+  if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && in_coherent_runs(rays))) {
+    for (size_t i = 0; i < rays.size; ++i) {  // packets count nothing: counted queries go ray by ray
       Hit h;
       intersect(s, rays.ray(i), h, c);
       hits.store(i, h);
+    }
+    return;
+  }
+  if (in_coherent_runs(rays)) {
+    Ray packet[kLanes];
+    Hit found[kLanes];
+    for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
+      const size_t n = std::min(kLanes, rays.size - i0);
+      for (size_t l = 0; l < n; ++l) packet[l] = rays.ray(i0 + l);
+      intersect_packet(s, packet, found, lanes_below(n));
+      for (size_t l = 0; l < n; ++l) hits.store(i0 + l, found[l]);
     }
     return;
   }

@@ -79,8 +79,8 @@ size_t expect_queue_matches_single_rays(const SceneBvh4& bvh, std::span<const Ra
       ++ties;  // two triangles at exactly the same t: either is the closest hit
     } else if (!same_bits(single, got)) {
       ++bad;
-      ADD_FAILURE() << what << ": ray " << i << " got t " << got.t << " prim " << got.prim << ", alone t "
-                    << single.t << " prim " << single.prim;
+      ADD_FAILURE() << what << ": ray " << i << " got t " << got.t << " prim " << got.prim << ", alone t " << single.t
+                    << " prim " << single.prim;
     }
     const bool blocked = bvh.occluded(rays[i]);
     if (q.blocked[i] != uint8_t(blocked)) {
@@ -128,6 +128,23 @@ TEST(Bvh4Queue, SharedScenesMatchSingleRaysBitForBit) {
   PT_REQUIRE_SHARED_SCENES();
   for (const char* name : {"CBbunny.dae", "CBgems.dae", "teapot.dae"})
     expect_every_kind_matches(load_collada_file(shared_scene(name)).scene, name, 96, 72);
+}
+
+TEST(Bvh4Queue, CameraQueuesInPixelOrderMatchSingleRays) {
+  // A pinhole camera's queue as the wavefront makes it: every pixel's samples
+  // one after the other (one origin, nearly one direction per run of K rays),
+  // which the queue tracer traces as packets.
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> pixels = camera_rays(s, 32, 24), rays;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> jitter(-1e-3f, 1e-3f);
+  for (const Ray& p : pixels)
+    for (int k = 0; k < 16; ++k)
+      rays.push_back({p.org, p.tmin, p.dir + float3{jitter(rng), jitter(rng), 0.0f}, p.tmax});
+  size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "camera rays in pixel order");
+  EXPECT_LE(ties, 2u);
 }
 
 TEST(Bvh4Queue, ADeepTreeWhoseListsThinOutMatchesSingleRays) {
