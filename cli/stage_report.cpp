@@ -26,11 +26,19 @@ void print_stage_stats(const wf::StageStats& s, const RenderStats& totals, Isa i
                 busy > 0 ? 100 * s.seconds[i] / busy : 0);
   using wf::Stage;
   std::printf("ray throughput inside the render (stage time per ray):\n");
-  rate_line("camera rays (packets)", s.camera_rays, seconds_of(s, Stage::kIntersectCamera));
-  rate_line("bounce rays (incoherent)", s.bounce_rays, seconds_of(s, Stage::kIntersectBounce));
-  rate_line("shadow rays from first hits (packets)", s.first_hit_shadow_rays, seconds_of(s, Stage::kShadowFirstHit));
-  rate_line("later shadow rays (incoherent)", s.shadow_rays - s.first_hit_shadow_rays,
-            seconds_of(s, Stage::kShadowLater));
+  rate_line("camera rays", s.camera_rays, seconds_of(s, Stage::kIntersectCamera));
+  rate_line("bounce rays", s.bounce_rays, seconds_of(s, Stage::kIntersectBounce));
+  rate_line("shadow rays from first hits", s.first_hit_shadow_rays, seconds_of(s, Stage::kShadowFirstHit));
+  rate_line("later shadow rays", s.shadow_rays - s.first_hit_shadow_rays, seconds_of(s, Stage::kShadowLater));
+  std::printf("queue tracer (the time inside it, per kind of queue):\n");
+  std::printf("  %-34s %8s %12s %12s %10s\n", "queue", "queues", "rays/queue", "us/queue", "Mrays/s");
+  for (int k = 0; k < static_cast<int>(wf::TracedQueue::kCount); ++k) {
+    const wf::QueueTiming& q = s.traced[k];
+    if (q.queues == 0) continue;
+    std::printf("  %-34s %8llu %12.1f %12.1f %10.2f\n", wf::kTracedQueueNames[k],
+                static_cast<unsigned long long>(q.queues), double(q.rays) / q.queues, 1e6 * q.seconds / q.queues,
+                q.seconds > 0 ? q.rays / q.seconds / 1e6 : 0.0);
+  }
   std::printf("paths alive per depth:");
   for (uint64_t n : s.paths_alive) std::printf(" %llu", static_cast<unsigned long long>(n));
   std::printf("\nwall %.3f s, %.2f Mrays/s overall\n", totals.seconds,

@@ -45,6 +45,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     capture_queue(options, depth == 0 ? QueueKind::kCamera : QueueKind::kBounce, depth, rays);
     {
       StageTimer t(stats, depth == 0 ? Stage::kIntersectCamera : Stage::kIntersectBounce);
+      QueueTimer q(stats, depth == 0 ? TracedQueue::kCamera : TracedQueue::kBounce, rays.size);
       intersect_closest(tracer, rays, b.hits, b.tracing, stats.primitive_tests, method_for(mode, depth));
     }
     if (ctx.settings.shading == ShadingMode::kNormals) {
@@ -63,9 +64,19 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     capture_queue(options, QueueKind::kHemisphere, depth, b.hemisphere);
     {
       StageTimer t(stats, depth == 0 ? Stage::kShadowFirstHit : Stage::kShadowLater);
-      trace_shadow_rays(tracer, b.shadows, b.paths, b.tracing, stats.primitive_tests, method_for(mode, depth));
-      trace_hemisphere_rays(tracer, ctx, b.hemisphere, b.hits, b.paths, b.tracing, stats.primitive_tests,
-                            method_for(mode, depth + 1));
+      {
+        QueueTimer q(stats, depth == 0 ? TracedQueue::kShadowFirstHit : TracedQueue::kShadowLater, b.shadows.size);
+        find_blocked(tracer, b.shadows, b.tracing, stats.primitive_tests, method_for(mode, depth));
+      }
+      add_unblocked(b.shadows, b.tracing, b.paths);
+      if (b.hemisphere.size > 0) {
+        {
+          QueueTimer q(stats, TracedQueue::kHemisphere, b.hemisphere.size);
+          intersect_hemisphere_rays(tracer, b.hemisphere, b.hits, b.tracing, stats.primitive_tests,
+                                    method_for(mode, depth + 1));
+        }
+        add_found_emission(ctx, b.hemisphere, b.hits, b.paths);
+      }
     }
     stats.shadow_rays += b.shadows.size + b.hemisphere.size;
     if (depth == 0) stats.first_hit_shadow_rays += b.shadows.size + b.hemisphere.size;

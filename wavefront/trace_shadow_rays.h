@@ -1,6 +1,7 @@
 // Stage 4: occlusion queries of the shadow queue; every ray that reaches its
 // light adds its weight to its path's radiance. Hemisphere-sampling rays are
-// traced closest-hit instead and add weight x the emission they find.
+// traced closest-hit instead and add weight x the emission they find. Tracing
+// and adding are separate steps, so that the tracer's time can be told apart.
 #pragma once
 
 #include <algorithm>
@@ -37,37 +38,40 @@ void find_blocked(const Tracer& tracer, const ShadowQueue& shadows, TracingBuffe
   for (size_t i = 0; i < shadows.size; ++i) blocked[i] = tracer.occluded(shadows.ray(i), tests);
 }
 
-template <class Tracer>
-void trace_shadow_rays(const Tracer& tracer, const ShadowQueue& shadows, PathState& paths, TracingBuffers& tb,
-                       uint64_t& tests, QueueMethod method) {
-  find_blocked(tracer, shadows, tb, tests, method);
+/// Every shadow ray that reaches its light (not tb.blocked) adds its weight
+/// to its path's radiance.
+inline void add_unblocked(const ShadowQueue& shadows, const TracingBuffers& tb, PathState& paths) {
   for (size_t i = 0; i < shadows.size; ++i)
     if (!tb.blocked[i])
       paths.add_radiance(shadows.path[i], shadows.weight_r[i], shadows.weight_g[i], shadows.weight_b[i]);
 }
 
-/// Closest hits of the hemisphere-sampling rays (into `hits`, free at this
-/// stage); each adds weight x the emission it finds.
+/// Closest hits of the hemisphere-sampling rays into `hits` (free at this stage).
 template <class Tracer>
-void trace_hemisphere_rays(const Tracer& tracer, const WaveContext& ctx, const ShadowQueue& rays, HitQueue& hits,
-                           PathState& paths, TracingBuffers& tb, uint64_t& tests, QueueMethod method) {
-  if (rays.size == 0) return;
+void intersect_hemisphere_rays(const Tracer& tracer, const ShadowQueue& rays, HitQueue& hits, TracingBuffers& tb,
+                               uint64_t& tests, QueueMethod method) {
   hits.reserve(rays.size);
   hits.size = rays.size;
   const HitArrays found = hits.arrays();
   if (method == QueueMethod::kQueue) {
     tracer.intersect_queue(rays.arrays(), found, tb.scratch, tests);
-  } else {
-    for (size_t i = 0; i < rays.size; ++i) {
-      Hit h;
-      if (!tracer.intersect(rays.ray(i), h, tests)) h = Hit{rays.tmax[i], 0.0f, 0.0f, kInvalidId};
-      found.store(i, h);
-    }
+    return;
   }
+  for (size_t i = 0; i < rays.size; ++i) {
+    Hit h;
+    if (!tracer.intersect(rays.ray(i), h, tests)) h = Hit{rays.tmax[i], 0.0f, 0.0f, kInvalidId};
+    found.store(i, h);
+  }
+}
+
+/// Each hemisphere-sampling ray adds weight x the emission its hit (in
+/// `hits`) finds.
+inline void add_found_emission(const WaveContext& ctx, const ShadowQueue& rays, const HitQueue& hits,
+                               PathState& paths) {
   const Scene& scene = ctx.scene;
   for (size_t i = 0; i < rays.size; ++i) {
     const Ray ray = rays.ray(i);
-    const Hit hit = found.load(i);
+    const Hit hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]};
     float3 incoming;
     if (hit.valid()) incoming = emitted_radiance(scene, surface_at(scene, ray, hit), ray, ctx.settings);
     else if (ctx.sky_visible) incoming = sky_radiance(scene, ray.dir);

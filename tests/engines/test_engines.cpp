@@ -254,6 +254,32 @@ TEST(Determinism, EveryTraceModeRendersTheSameImage) {
   }
 }
 
+// --stats' queue tracer lines: every ray the engine reports traced was in a
+// queue the tracer timed, and every queue of a kind is counted once.
+TEST(StageStats, EveryTracedRayIsInATimedQueue) {
+  Scene scene = load_collada_file(test::project_scene("cornell_spheres.dae")).scene;
+  SceneBvh4 bvh(scene);
+  for (DirectLighting direct : {DirectLighting::kMis, DirectLighting::kHemisphere}) {
+    RenderSettings rs = small_settings(4, 7);
+    rs.max_depth = 4;
+    rs.direct = direct;
+    Camera cam = resolve_camera(scene, rs.width, rs.height);
+    wf::StageStats stages;
+    RenderOutput out = wf::render_wavefront(scene, cam, rs, wf::Tracing{.bvh4 = &bvh}, {}, {}, &stages);
+    auto traced = [&](wf::TracedQueue k) { return stages.traced[static_cast<int>(k)]; };
+    EXPECT_EQ(traced(wf::TracedQueue::kCamera).rays, out.stats.camera_rays);
+    EXPECT_EQ(traced(wf::TracedQueue::kBounce).rays, out.stats.bounce_rays);
+    EXPECT_EQ(traced(wf::TracedQueue::kShadowFirstHit).rays + traced(wf::TracedQueue::kShadowLater).rays +
+                  traced(wf::TracedQueue::kHemisphere).rays,
+              out.stats.shadow_rays);
+    EXPECT_EQ(traced(wf::TracedQueue::kCamera).queues, (64u * 48u * 4u + 4095u) / 4096u);  // one per wave
+    const bool hemisphere = direct == DirectLighting::kHemisphere;
+    EXPECT_EQ(traced(wf::TracedQueue::kHemisphere).queues > 0, hemisphere);
+    EXPECT_EQ(traced(wf::TracedQueue::kShadowFirstHit).queues > 0, !hemisphere);
+    for (const wf::QueueTiming& q : stages.traced) EXPECT_EQ(q.queues == 0, q.rays == 0);
+  }
+}
+
 TEST(Determinism, ThreadCountAndWaveSizeDoNotChangeTheImage) {
   for (const char* name : {"cornell_spheres.dae", "cornell_materials.dae"}) {
     Scene scene = load_collada_file(test::project_scene(name)).scene;
