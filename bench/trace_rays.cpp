@@ -1,5 +1,5 @@
 // trace_rays: time this BVH4 on exactly the rays another tracer traced.
-//   trace_rays TRIS RAYS [--occluded] [--single] [--queue N] [--threads N] [--reps N] [--hits OUT]
+//   trace_rays TRIS RAYS [--occluded] [--single] [--queue N] [--embree] [--threads N] [--reps N] [--hits OUT]
 // Reads a triangle file and a ray file (formats in io/ray_files.h), builds the
 // BVH4, and traces every ray, closest hit (or any hit with --occluded), in the
 // file's order: in queues of --queue rays (default 4096, the wavefront's
@@ -11,6 +11,9 @@
 //   {"threads":1,"isa":"avx2","method":"queue","mrays_per_s":...,"hits":...,"sum_t":...,"build_ms":...,
 //    "rays":...,"triangles":...}
 // (with --occluded, "hits" counts blocked rays and sum_t is 0).
+// --embree then times every Embree method (embree_tracer.h), high-quality and
+// default builds, on the same queues in the same order: one line each, with
+// "method":"embree_high_packet16" and so on.
 // The kernels run at the level --isa (or PT_ISA) names, default the widest
 // this CPU runs.
 // --hits OUT writes float32 t, uint32 primitive per ray (the last pass; a
@@ -30,18 +33,15 @@
 
 #include "bvh/scene_bvh4.h"
 #include "io/scene_error.h"
+#ifdef PT_HAVE_EMBREE
+#include "embree_tracer.h"
+#endif
 #include "ray_driver.h"
 #include "io/ray_files.h"
 
 namespace {
 
 using namespace pt;
-
-struct Pass {
-  double seconds;
-  size_t hits;
-  double sum_t;
-};
 
 /// The rays as arrays (the queue tracer's input), and its outputs.
 struct Queues {
@@ -70,6 +70,12 @@ struct Queues {
   HitArrays hits(size_t b) { return {t.data() + b, u.data() + b, v.data() + b, prim.data() + b}; }
 };
 
+struct Pass {
+  double seconds;
+  size_t hits;
+  double sum_t;
+};
+
 double thread_cpu_seconds() {
   timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -81,13 +87,49 @@ struct Setup {
   size_t queue = 4096;
 };
 
+/// Runs trace(first, last) over queues [0, queues): on one thread, or spread
+/// over `threads`; returns the seconds it took (1 thread: the thread's CPU
+/// time, which other processes on a shared machine do not inflate, as
+/// bench_trace; more: wall time).
+template <class Trace>
+double time_queues(size_t queues, int threads, Trace&& trace) {
+  auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  if (threads <= 1) {
+    enable_flush_denormals_to_zero();
+    trace(size_t{0}, queues);
+  } else {
+    bench::arena_of(threads).execute([&] {
+      oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, queues), [&](const auto& r) {
+        enable_flush_denormals_to_zero();
+        trace(r.begin(), r.end());
+      });
+    });
+  }
+  return threads <= 1 ? thread_cpu_seconds() - cpu_start
+                      : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The pass's counts: blocked rays, or hits and the sum of their t.
+Pass count(double seconds, const std::vector<Hit>& hits, const std::vector<uint8_t>& blocked, bool occluded) {
+  Pass p{seconds, 0, 0.0};
+  if (occluded) {
+    for (uint8_t b : blocked) p.hits += b;
+    return p;
+  }
+  for (const Hit& h : hits)
+    if (h.valid()) {
+      ++p.hits;
+      p.sum_t += h.t;
+    }
+  return p;
+}
+
 Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q, std::vector<Hit>& hits, int threads,
                 const Setup& setup) {
   static oneapi::tbb::enumerable_thread_specific<QueueScratch> scratch;
-  auto start = std::chrono::steady_clock::now();
-  const double cpu_start = thread_cpu_seconds();
   const size_t queues = (rays.size() + setup.queue - 1) / setup.queue;
-  auto trace = [&](size_t first, size_t last) {  // queues [first, last)
+  double s = time_queues(queues, threads, [&](size_t first, size_t last) {
     for (size_t k = first; k < last; ++k) {
       const size_t b = k * setup.queue, e = std::min(rays.size(), b + setup.queue);
       if (setup.single) {
@@ -100,36 +142,47 @@ Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q, s
         bvh.intersect(q.rays(b, e), q.hits(b), scratch.local());
       }
     }
-  };
-  if (threads <= 1) {
-    enable_flush_denormals_to_zero();
-    trace(0, queues);
-  } else {
-    bench::arena_of(threads).execute([&] {
-      oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, queues), [&](const auto& r) {
-        enable_flush_denormals_to_zero();
-        trace(r.begin(), r.end());
-      });
-    });
-  }
-  // 1 thread: the thread's CPU time, which other processes on a shared
-  // machine do not inflate (as bench_trace); more: wall time.
-  double s = threads <= 1 ? thread_cpu_seconds() - cpu_start
-                          : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  });
   if (!setup.single && !setup.occluded)
     for (size_t i = 0; i < rays.size(); ++i) hits[i] = Hit{q.t[i], q.u[i], q.v[i], q.prim[i]};
-  Pass p{s, 0, 0.0};
-  if (setup.occluded) {
-    for (uint8_t b : q.blocked) p.hits += b;
-    return p;
-  }
-  for (const Hit& h : hits)
-    if (h.valid()) {
-      ++p.hits;
-      p.sum_t += h.t;
-    }
-  return p;
+  return count(s, hits, q.blocked, setup.occluded);
 }
+
+/// Times `pass` (a warm-up, then the median of `reps`) and prints its line.
+template <class PassFn>
+void time_and_report(int threads, const std::string& method, int reps, size_t rays, size_t triangles, double build_ms,
+                     PassFn&& pass);
+
+#ifdef PT_HAVE_EMBREE
+/// Every Embree method over the same queues, with its high-quality and its
+/// default build: one line each per thread count.
+void time_embree(const Scene& scene, const std::vector<Ray>& rays, const Setup& setup,
+                 const std::vector<int>& thread_counts, int reps) {
+  bench::RaySet set{"file", setup.occluded, rays, {}};
+  for (size_t end = setup.queue; end < rays.size(); end += setup.queue) set.queue_ends.push_back(end);
+  set.queue_ends.push_back(rays.size());
+  const bench::EmbreeRays converted = bench::convert_rays(set);
+  std::vector<Hit> hits(rays.size());
+  std::vector<uint8_t> blocked(rays.size());
+  for (auto [name, quality] :
+       {std::pair{"embree_high", RTC_BUILD_QUALITY_HIGH}, {"embree_default", RTC_BUILD_QUALITY_MEDIUM}}) {
+    std::unique_ptr<bench::EmbreeTracer> embree;
+    bench::arena_of(thread_counts.back()).execute([&] {
+      embree = std::make_unique<bench::EmbreeTracer>(scene, quality);
+    });
+    for (bench::EmbreeMethod m : bench::kEmbreeMethods)
+      for (int t : thread_counts)
+        time_and_report(t, std::string(name) + "_" + bench::embree_method_name(m), reps, rays.size(),
+                        scene.triangles.size(), embree->build_ms(), [&] {
+                          double s = time_queues(set.queue_ends.size(), t, [&](size_t first, size_t last) {
+                            const size_t b = first == 0 ? 0 : set.queue_ends[first - 1];
+                            embree->trace(m, converted, b, set.queue_ends[last - 1], hits.data(), blocked.data());
+                          });
+                          return count(s, hits, blocked, setup.occluded);
+                        });
+  }
+}
+#endif
 
 void report(int threads, const char* method, const std::vector<double>& seconds, const Pass& last, size_t rays,
             size_t triangles, double build_ms) {
@@ -142,6 +195,19 @@ void report(int threads, const char* method, const std::vector<double>& seconds,
       threads, std::string(isa_name(active_isa())).c_str(), method, rays / median / 1e6, last.hits, last.sum_t,
       build_ms, rays, triangles, seconds.size());
   std::fflush(stdout);
+}
+
+template <class PassFn>
+void time_and_report(int threads, const std::string& method, int reps, size_t rays, size_t triangles, double build_ms,
+                     PassFn&& pass) {
+  pass();  // warm-up
+  std::vector<double> seconds;
+  Pass last{};
+  for (int r = 0; r < reps; ++r) {
+    last = pass();
+    seconds.push_back(last.seconds);
+  }
+  report(threads, method.c_str(), seconds, last, rays, triangles, build_ms);
 }
 
 }  // namespace
@@ -161,6 +227,10 @@ int main(int argc, char** argv) {
   app.add_option("--queue", setup.queue, "Rays per queue for the queue tracer (the wavefront's wave: 4096)")
       ->check(CLI::Range(1, 1 << 24));
   app.add_option("--isa", isa, "Instruction set: auto, sse4.2, avx2, avx512 or neon (also PT_ISA)");
+  bool embree = false;
+  app.add_flag("--embree", embree,
+               "Then time every Embree method (single rays, packets, streams; high and default builds) on the same "
+               "queues, one line each");
   CLI11_PARSE(app, argc, argv);
   reps = std::max(reps, 7);
   try {
@@ -175,20 +245,21 @@ int main(int argc, char** argv) {
     std::vector<int> counts = {1};
     if (threads > 1) counts.push_back(threads);
     const char* method = setup.single ? "single" : "queue";
-    for (int t : counts) {
-      trace_once(bvh, rays, queues, hits, t, setup);  // warm-up
-      std::vector<double> seconds;
-      Pass last{};
-      for (int r = 0; r < reps; ++r) {
-        last = trace_once(bvh, rays, queues, hits, t, setup);
-        seconds.push_back(last.seconds);
-      }
-      report(t, method, seconds, last, rays.size(), scene.triangles.size(), bvh.stats().build_ms);
-    }
+    for (int t : counts)
+      time_and_report(t, method, reps, rays.size(), scene.triangles.size(), bvh.stats().build_ms,
+                      [&] { return trace_once(bvh, rays, queues, hits, t, setup); });
     if (setup.occluded)
       for (size_t i = 0; i < rays.size(); ++i)
         hits[i] = queues.blocked[i] ? Hit{0.0f, 0.0f, 0.0f, 0} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
     if (!hits_path.empty()) write_hit_file(hits_path, hits);
+    if (embree) {
+#ifdef PT_HAVE_EMBREE
+      time_embree(scene, rays, setup, counts, reps);
+#else
+      std::fprintf(stderr, "error: --embree: this build has no Embree (install libembree-dev and rebuild)\n");
+      return 2;
+#endif
+    }
   } catch (const IsaError& e) {
     std::fprintf(stderr, "error: %s%s\n", app.count("--isa") ? "--isa: " : "", e.what());
     return 2;

@@ -57,6 +57,45 @@ TEST(TraceRays, ReportsExactHitsAndWritesHitFile) {
   EXPECT_EQ(prim[2], 0xFFFFFFFFu);
 }
 
+/// The "method" and "hits" of every JSON line of trace_rays' output.
+std::vector<std::pair<std::string, std::string>> methods_and_hits(const std::string& out) {
+  std::vector<std::pair<std::string, std::string>> lines;
+  for (size_t at = out.find("\"method\":\""); at != std::string::npos; at = out.find("\"method\":\"", at + 1)) {
+    size_t m = at + 10, m_end = out.find('"', m);
+    size_t h = out.find("\"hits\":", at) + 7, h_end = out.find(',', h);
+    lines.push_back({out.substr(m, m_end - m), out.substr(h, h_end - h)});
+  }
+  return lines;
+}
+
+TEST(TraceRays, EveryMethodFindsTheSameHits) {
+  std::string dir = ::testing::TempDir();
+  write<float>(dir + "tris2.bin", {0, 0, 1, 1, 0, 1, 0, 1, 1, 0, 0, 3, 1, 0, 3, 0, 1, 3});
+  write<float>(dir + "rays2.bin",
+               {0.2f, 0.2f, 0, 0, 0, 0, 1, 1e30f, 0.2f, 0.2f, 2, 0, 0, 0, 0.5f, 1e30f,
+                5.0f, 5.0f, 0, 0, 0, 0, 1, 7.0f,  0.2f, 0.2f, 0, 0, 0, 0, 1,    0.5f});  // the last stops short
+  struct Run {
+    std::vector<std::string> flags;
+    const char* hits;  // closest hits, or blocked rays with --occluded
+  };
+  for (const Run& run_case : {Run{{}, "2"}, Run{{"--single"}, "2"}, Run{{"--occluded"}, "2"},
+                              Run{{"--occluded", "--single"}, "2"}, Run{{"--queue", "1"}, "2"}}) {
+    std::vector<std::string> args = {dir + "tris2.bin", dir + "rays2.bin", "--threads", "2"};
+    args.insert(args.end(), run_case.flags.begin(), run_case.flags.end());
+    pt::test::ProcessResult r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto lines = methods_and_hits(r.out);
+    ASSERT_EQ(lines.size(), 2u) << r.out;  // 1 and 2 threads
+    for (const auto& [method, hits] : lines) EXPECT_EQ(hits, run_case.hits) << method << " in " << r.out;
+  }
+  pt::test::ProcessResult r = run({dir + "tris2.bin", dir + "rays2.bin", "--threads", "1", "--embree"});
+  if (r.exit_code == 2 && r.err.find("no Embree") != std::string::npos) GTEST_SKIP() << "built without Embree";
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto lines = methods_and_hits(r.out);
+  EXPECT_EQ(lines.size(), 1u + 2u * 11u) << r.out;  // ours, then 11 methods of each Embree build
+  for (const auto& [method, hits] : lines) EXPECT_EQ(hits, "2") << method << " in " << r.out;
+}
+
 TEST(TraceRays, RejectsTruncatedFiles) {
   std::string dir = ::testing::TempDir();
   write<float>(dir + "bad_tris.bin", {0, 0, 1, 1, 0});  // not a multiple of 9 floats
