@@ -138,28 +138,37 @@ void SceneFixture::add_queue_tracer() {
       for (int j = 0; j < 8; ++j) a[j][i] = f[j];
     }
   }
-  // The queue tracer writes its hits as arrays (its output); they become Hit
-  // records only for validation, outside the timed loop's work per ray.
-  auto outputs = std::make_shared<tbb::enumerable_thread_specific<QueueOutputs>>();
-  tracers_.push_back(
-      {"bvh4_queue", [this, outputs](int set, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
-         QueueOutputs& q = outputs->local();
-         const RaySet& s = sets_[set];
-         size_t qi = std::upper_bound(s.queue_ends.begin(), s.queue_ends.end(), b) - s.queue_ends.begin();
-         for (size_t qb = b; qb < e; ++qi) {
-           const size_t qe = std::min(e, s.queue_ends[qi]);
-           const RayArrays rays = arrays(set, qb, qe);
-           if (s.occlusion) {
-             bvh4_->occluded(rays, blocked + qb, q.scratch);
-           } else {
-             const size_t n = qe - qb;
-             q.t.resize(n), q.u.resize(n), q.v.resize(n), q.prim.resize(n);
-             bvh4_->intersect(rays, HitArrays{q.t.data(), q.u.data(), q.v.data(), q.prim.data()}, q.scratch);
-             for (size_t i = 0; i < n; ++i) hits[qb + i] = Hit{q.t[i], q.u[i], q.v[i], q.prim[i]};
-           }
-           qb = qe;
-         }
-       }});
+  // The queue tracer writes its hits as arrays (its output): into the set's
+  // arrays, which become Hit records only for validation.
+  for (const RaySet& set : sets_) {
+    std::array<std::vector<float>, 3>& h = queue_hits_.emplace_back();
+    for (std::vector<float>& f : h) f.resize(set.rays.size());
+    queue_prims_.emplace_back(set.rays.size());
+  }
+  auto scratch = std::make_shared<tbb::enumerable_thread_specific<QueueScratch>>();
+  TracerEntry queue{
+      "bvh4_queue", [this, scratch](int set, size_t b, size_t e, Hit*, uint8_t* blocked) {
+        const RaySet& s = sets_[set];
+        size_t qi = std::upper_bound(s.queue_ends.begin(), s.queue_ends.end(), b) - s.queue_ends.begin();
+        for (size_t qb = b; qb < e; ++qi) {
+          const size_t qe = std::min(e, s.queue_ends[qi]);
+          const RayArrays rays = arrays(set, qb, qe);
+          if (s.occlusion) {
+            bvh4_->occluded(rays, blocked + qb, scratch->local());
+          } else {
+            std::array<std::vector<float>, 3>& h = queue_hits_[set];
+            bvh4_->intersect(
+                rays, HitArrays{h[0].data() + qb, h[1].data() + qb, h[2].data() + qb, queue_prims_[set].data() + qb},
+                scratch->local());
+          }
+          qb = qe;
+        }
+      }};
+  queue.collect = [this](int set, size_t b, size_t e, Hit* hits) {
+    const std::array<std::vector<float>, 3>& h = queue_hits_[set];
+    for (size_t i = b; i < e; ++i) hits[i] = Hit{h[0][i], h[1][i], h[2][i], queue_prims_[set][i]};
+  };
+  tracers_.push_back(queue);
 }
 
 void SceneFixture::add_reference_tracers(const FixtureOptions& options) {
@@ -214,6 +223,7 @@ const std::string& SceneFixture::validate(const TracerEntry& t, int set) {
   std::vector<Hit> hits(n);
   std::vector<uint8_t> blocked(n);
   run_tracer(t, s, set, n, 2, hits.data(), blocked.data());
+  if (t.collect && !s.occlusion) t.collect(set, 0, n, hits.data());
   size_t bad = 0;
   float scale = std::max(max_component(abs(scene_.bounds.lower)), max_component(abs(scene_.bounds.upper)));
   for (size_t i = 0; i < n; ++i)

@@ -39,6 +39,10 @@ using TraceFn = std::function<void(int set, size_t begin, size_t end, Hit* hits,
 struct TracerEntry {
   std::string name;
   TraceFn trace;
+  /// For tracers whose own output is not Hit records (the queue tracer's
+  /// arrays): turns the last trace of rays [begin, end) of a set into Hit
+  /// records, for validation only (outside the timed loop).
+  std::function<void(int set, size_t begin, size_t end, Hit* hits)> collect;
   bool coherent_only = false;  ///< packets of coherent rays: the primary set only
   size_t max_rays = SIZE_MAX;  ///< traces only this prefix of a set
   bool whole_set = false;      ///< called once per set inside the thread arena, never in chunks
@@ -106,7 +110,9 @@ class SceneFixture {
   std::string label_;
   Scene scene_;
   std::vector<RaySet> sets_;
-  std::vector<std::array<std::vector<float>, 8>> arrays_;  ///< per set: ox, oy, oz, tmin, dx, dy, dz, tmax
+  std::vector<std::array<std::vector<float>, 8>> arrays_;      ///< per set: ox, oy, oz, tmin, dx, dy, dz, tmax
+  std::vector<std::array<std::vector<float>, 3>> queue_hits_;  ///< per set: the queue tracer's t, u, v
+  std::vector<std::vector<uint32_t>> queue_prims_;             ///< and its primitives
   std::vector<std::vector<Hit>> oracle_hits_;
   std::vector<std::vector<uint8_t>> oracle_blocked_;
   std::unique_ptr<SceneBvh4> bvh4_, bvh4_watertight_;

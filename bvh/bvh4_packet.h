@@ -18,6 +18,7 @@
 #include "bvh4_node_test.h"
 #include "bvh4_traverse.h"
 #include "kernels/math/ray.h"
+#include "kernels/math/ray_arrays.h"
 #include "kernels/simd/simd.h"
 
 #ifndef PT_ISA_NS
@@ -60,6 +61,26 @@ struct PacketHitLanes {
   }
 };
 
+/// Fills the packet's per-lane constants from its org, dir, tmin and tmax:
+/// the traceable lanes of `lanes`, the reciprocal directions and whether the
+/// active lanes agree on the direction signs.
+inline void finish_ray_packet(RayPacket& p, uint32_t lanes) {
+  vboolK traceable = p.tmin < p.tmax;  // false for NaN
+  for (int a = 0; a < 3; ++a) traceable = traceable & xsimd::isfinite(p.org[a]) & xsimd::isfinite(p.dir[a]);
+  p.active = lanes & lane_mask(traceable);
+  p.uniform = true;
+  const vfloatK min_dir(NodeRay::kMinDir);
+  for (int a = 0; a < 3; ++a) {
+    vfloatK safe = xsimd::select(xsimd::abs(p.dir[a]) < min_dir, xsimd::copysign(min_dir, p.dir[a]), p.dir[a]);
+    p.rdir[a] = vfloatK(1.0f) / safe;
+    p.org_rdir[a] = p.org[a] * p.rdir[a];
+    uint32_t negative = lane_mask(p.rdir[a] < vfloatK(0.0f)) & p.active;
+    p.uniform = p.uniform && (negative == 0 || negative == p.active);
+    p.near[a] = 2 * a + (negative != 0);
+    p.far[a] = 2 * a + (negative == 0);
+  }
+}
+
 /// Loads rays[i] for the lanes i set in `lanes` (other entries are not read).
 /// (GCC would vectorise the transposition below back into gathers.)
 #if defined(__GNUC__) && !defined(__clang__)
@@ -83,20 +104,28 @@ load_ray_packet(const Ray* rays, uint32_t lanes) {
   p.org[2] = vfloatK::load_aligned(field[2]), p.tmin = vfloatK::load_aligned(field[3]);
   p.dir[0] = vfloatK::load_aligned(field[4]), p.dir[1] = vfloatK::load_aligned(field[5]);
   p.dir[2] = vfloatK::load_aligned(field[6]), p.tmax = vfloatK::load_aligned(field[7]);
-  vboolK traceable = p.tmin < p.tmax;  // false for NaN
-  for (int a = 0; a < 3; ++a) traceable = traceable & xsimd::isfinite(p.org[a]) & xsimd::isfinite(p.dir[a]);
-  p.active = lanes & lane_mask(traceable);
-  p.uniform = true;
-  const vfloatK min_dir(NodeRay::kMinDir);
-  for (int a = 0; a < 3; ++a) {
-    vfloatK safe = xsimd::select(xsimd::abs(p.dir[a]) < min_dir, xsimd::copysign(min_dir, p.dir[a]), p.dir[a]);
-    p.rdir[a] = vfloatK(1.0f) / safe;
-    p.org_rdir[a] = p.org[a] * p.rdir[a];
-    uint32_t negative = lane_mask(p.rdir[a] < vfloatK(0.0f)) & p.active;
-    p.uniform = p.uniform && (negative == 0 || negative == p.active);
-    p.near[a] = 2 * a + (negative != 0);
-    p.far[a] = 2 * a + (negative == 0);
-  }
+  finish_ray_packet(p, lanes);
+  return p;
+}
+
+/// Loads a packet of K consecutive rays of a queue held as arrays, rays
+/// [i0, i0 + n) with n <= K, the lanes past n copying the first ray; `rays`
+/// receives them as records too (the packet's single-ray walks read them).
+inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n, Ray* rays) {
+  RayPacket p;
+  p.rays = rays;
+  const uint32_t lanes = lanes_below(n);
+  auto load = [&](const float* a) {
+    if (n == kLanes) return vfloatK::load_unaligned(a + i0);
+    alignas(64) float v[kLanes];
+    for (size_t l = 0; l < kLanes; ++l) v[l] = a[i0 + (l < n ? l : 0)];
+    return vfloatK::load_aligned(v);
+  };
+  for (int a = 0; a < 3; ++a) p.org[a] = load(q.org[a]), p.dir[a] = load(q.dir[a]);
+  p.tmin = q.tmin ? load(q.tmin) : vfloatK(0.0f);
+  p.tmax = load(q.tmax);
+  for (size_t l = 0; l < n; ++l) rays[l] = q.ray(i0 + l);
+  finish_ray_packet(p, lanes);
   return p;
 }
 

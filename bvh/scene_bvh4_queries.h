@@ -147,13 +147,22 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
     return;
   }
   if (in_coherent_runs(rays)) {
-    Ray packet[kLanes];
-    Hit found[kLanes];
+    std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+    Ray records[kLanes];
     for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
       const size_t n = std::min(kLanes, rays.size - i0);
-      for (size_t l = 0; l < n; ++l) packet[l] = rays.ray(i0 + l);
-      intersect_packet(s, packet, found, lanes_below(n));
-      for (size_t l = 0; l < n; ++l) hits.store(i0 + l, found[l]);
+      RayPacket p = load_ray_packet(rays, i0, n, records);
+      PacketHits h;
+      if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
+      else bvh4_intersect_packet<false>(s.bvh(), p, h);
+      // A miss keeps t = tmax and writes u = v = 0 (the packet leaves them 0).
+      const PacketHitLanes l(p, h);
+      for (size_t k = 0; k < n; ++k) {
+        Hit hit{l.t[k], l.u[k], l.v[k], static_cast<uint32_t>(l.prim[k])};
+        if (!hit.valid()) hit = Hit{records[k].tmax, 0.0f, 0.0f, kInvalidId};
+        if (!spheres.empty() && (p.active >> k & 1)) closest_sphere(spheres, records[k], hit);
+        hits.store(i0 + k, hit);
+      }
     }
     return;
   }

@@ -16,8 +16,8 @@ from collections import defaultdict
 
 TRACE = re.compile(r"^trace/(?P<scene>[^/]+)/(?P<kind>[^/]+)/(?P<tracer>[^/]+)/threads:(?P<threads>\d+)$")
 BUILD = re.compile(r"^build/(?P<scene>[^/]+)/(?P<builder>[^/]+)/threads:(?P<threads>\d+)$")
-KINDS = ["primary", "diffuse", "shadow"]
-OURS = ["bvh4", "bvh4_packet", "bvh4_incoherent"]
+KINDS = ["primary", "diffuse", "shadow", "diffuse_shuffled", "shadow_shuffled", "bounce_queues", "shadow_queues"]
+OURS = ["bvh4", "bvh4_queue", "bvh4_packet", "bvh4_incoherent"]
 
 
 def runs(data):
@@ -68,6 +68,28 @@ def trace_table(scene, trace):
     return lines
 
 
+def summary_table(trace, scenes):
+    """Per scene and ray set: this BVH4's best method and Embree's best (the fastest of all its methods and
+    both builds), 1 and 2 threads."""
+    lines = ["| scene | rays | 1 thread: ours / Embree's best | ratio | 2 threads: ours / Embree's best | ratio |",
+             "|---|---|---|---|---|---|"]
+    for scene in scenes:
+        for kind in KINDS:
+            cells = []
+            for threads in (1, 2):
+                row = trace.get((scene, kind, threads), {})
+                ours, ours_name = best(row, OURS)
+                theirs, theirs_name = best(row, ["embree"])
+                if ours and theirs:
+                    cells += [f"{ours:.1f} ({ours_name}) / {theirs:.1f} ({theirs_name.removeprefix('embree_')})",
+                              f"**{ours / theirs:.2f}x**"]
+                else:
+                    cells += ["", ""]
+            if any(cells):
+                lines.append(f"| {scene} | {kind} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def build_table(scene, builds):
     lines = ["| builder | threads | build ms | bytes per triangle | vs embree_high |",
              "|---|---|---|---|---|"]
@@ -87,6 +109,8 @@ def trace_main(path="out/bench.json"):
     print(f"host: {context.get('num_cpus', '?')} CPUs; Embree: {context.get('embree', 'absent')}; "
           f"{context.get('rays', '')}; Mrays/s, 1 thread over thread CPU time, 2 threads over wall time\n")
     scenes = list(dict.fromkeys([s for (s, _, _) in trace] + list(build)))
+    print("## This BVH4's best method against Embree's best\n")
+    print("\n".join(summary_table(trace, scenes)) + "\n")
     for scene in scenes:
         tris = next((e.get("triangles") for e in build.get(scene, {}).values()), None)
         print(f"## {scene}" + (f" ({int(tris):,} triangles)" if tris else "") + "\n")
@@ -108,7 +132,7 @@ def render_main(path="out/bench_render.json"):
         scene, engine = e["run_name"].split("/")[1:3]
         runs[(scene, engine)].append(e)
     scenes = sorted({s for s, _ in runs})
-    engines = ["wavefront", "wavefront_no_packets", "wavefront_unsorted", "megakernel", "reference"]
+    engines = ["wavefront", "wavefront_packets", "wavefront_single", "wavefront_unsorted", "megakernel", "reference"]
     print(f"machine: {data['context'].get('host_name', '?')}, {data['context'].get('num_cpus', '?')} CPUs; "
           f"medians of {max(len(v) for v in runs.values()) if runs else 0} interleaved runs\n")
     print("| scene | engine | wall s | Msamples/s | Mrays/s | rays (M) | vs megakernel | sorted by material vs unsorted |")
@@ -157,8 +181,8 @@ def render_medians(level):
 def levels_main(*levels):
     print("bench_trace: Mrays/s of this BVH4's best method / Embree's best method (ratio); 1 thread over thread "
           "CPU time, 2 threads over wall time; medians\n")
-    print("| level | scene | primary 1T | diffuse 1T | shadow 1T | primary 2T | diffuse 2T | shadow 2T |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| level | scene | " + " | ".join(f"{k} {t}T" for t in (1, 2) for k in KINDS) + " |")
+    print("|---|---|" + "---|" * (2 * len(KINDS)))
     embree = {}
     for level in levels:
         for scene, embree[level], cells in trace_rows(level):
