@@ -1,0 +1,53 @@
+// Film to RGBA: thresholds found by bisection over the encoder itself.
+#include "frame_image.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace pt::live {
+namespace {
+
+/// The smallest non-negative float whose encoding is at least `code`
+/// (encode_channel is non-decreasing in its argument), searched over the
+/// bit patterns of [0, 2], which order as the floats do.
+float lowest_encoded_as(uint8_t code, PngQuantization q) {
+  uint32_t lo = 0, hi = std::bit_cast<uint32_t>(2.0f);  // encode(2) = 255
+  while (lo < hi) {
+    uint32_t mid = lo + (hi - lo) / 2;
+    if (encode_channel(std::bit_cast<float>(mid), q) >= code) hi = mid;
+    else lo = mid + 1;
+  }
+  return std::bit_cast<float>(lo);
+}
+
+}  // namespace
+
+ChannelEncoder::ChannelEncoder(PngQuantization q) {
+  lowest_[0] = 0.0f;
+  for (int k = 1; k < 256; ++k) lowest_[k] = lowest_encoded_as(static_cast<uint8_t>(k), q);
+}
+
+uint8_t ChannelEncoder::operator()(float linear) const {
+  if (!(linear >= lowest_[1])) return 0;  // below the first threshold, negative or NaN
+  return static_cast<uint8_t>(std::upper_bound(lowest_.begin() + 1, lowest_.end(), linear) - lowest_.begin() - 1);
+}
+
+std::string film_rgba(const Film& film, Display display, const ChannelEncoder& encode, uint32_t target) {
+  const size_t n = size_t(film.width) * film.height;
+  std::string out(n * 4, '\xff');
+  uint8_t* p = reinterpret_cast<uint8_t*>(out.data());
+  if (display == Display::kSampleRate) {
+    for (size_t i = 0; i < n; ++i) sample_rate_rgb8(film.samples[i], target, p + 4 * i);
+    return out;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const float3& c = film.radiance[i];
+    p[4 * i] = encode(c.x);
+    p[4 * i + 1] = encode(c.y);
+    p[4 * i + 2] = encode(c.z);
+  }
+  return out;
+}
+
+}  // namespace pt::live
