@@ -5,6 +5,7 @@
 
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -59,6 +60,12 @@ std::string log_safe(const std::string& text, size_t max) {
 }
 
 HttpServer::HttpServer(const ServerLimits& limits, LogSink log) : limits_(limits), log_(std::move(log)) {
+  // SO_REUSEADDR only: a restart may bind while old connections linger, but no
+  // second server can share the port (httplib's default, SO_REUSEPORT, lets it).
+  set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   new_task_queue = [n = limits_.threads] { return new httplib::ThreadPool(n); };
   set_payload_max_length(limits_.max_body_bytes);
   set_keep_alive_max_count(limits_.max_requests_per_connection);

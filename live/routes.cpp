@@ -113,8 +113,12 @@ httplib::Server::HandlerResponse guard(const RouteContext& ctx, const httplib::R
     reply_error(res, 403, "Host \"" + host + "\" is not this server's address");
     return httplib::Server::HandlerResponse::Handled;
   }
-  if (req.method != "GET" && req.method != "HEAD" && req.get_header_value("X-PT-Live") != "1") {
-    reply_error(res, 403, "a " + req.method + " needs the header X-PT-Live: 1 (the page sends it)");
+  if (req.method != "GET" && req.method != "HEAD" && req.method != "POST") {
+    reply_error(res, 405, "method " + req.method + " is not used here");
+    return httplib::Server::HandlerResponse::Handled;
+  }
+  if (req.method == "POST" && req.get_header_value("X-PT-Live") != "1") {
+    reply_error(res, 403, "a POST needs the header X-PT-Live: 1 (the page sends it)");
     return httplib::Server::HandlerResponse::Handled;
   }
   return httplib::Server::HandlerResponse::Unhandled;

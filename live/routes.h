@@ -2,7 +2,8 @@
 // page, the shared view's state and frames, camera moves and settings, the
 // BVH overlays, Save camera and Render. Every request first passes the guard:
 // its Host must be one the server answers to (no DNS rebinding) and every
-// POST must carry the header X-PT-Live (no cross-site form posts).
+// POST must carry the header X-PT-Live (no cross-site form posts); methods
+// other than GET, HEAD and POST are refused.
 #pragma once
 
 #include <chrono>

@@ -41,8 +41,8 @@
 
   function draw(meta, pixels) {
     if (image.width !== meta.view_width || image.height !== meta.view_height) {
-      image.width = overlay.width = meta.view_width;
-      image.height = overlay.height = meta.view_height;
+      image.width = meta.view_width;
+      image.height = meta.view_height;
     }
     const data = new ImageData(pixels, meta.width, meta.height);
     if (meta.width === meta.view_width && meta.height === meta.view_height) {
@@ -148,10 +148,11 @@
   }
 
   let drag = null;
+  // The pointer in pixels of the view (the image canvas's own pixels, whatever its size on screen).
   function canvasPoint(event) {
     const rect = overlay.getBoundingClientRect();
-    return [(event.clientX - rect.left) * overlay.width / rect.width,
-            (event.clientY - rect.top) * overlay.height / rect.height];
+    return [(event.clientX - rect.left) * image.width / rect.width,
+            (event.clientY - rect.top) * image.height / rect.height];
   }
   overlay.addEventListener('pointerdown', (event) => {
     overlay.setPointerCapture(event.pointerId);
@@ -267,8 +268,10 @@
     return c[2] > 0 ? toPixel(f.camera, f.view_width, f.view_height, c) : null;
   };
 
-  // The twelve edges of a box, clipped to the space in front of the camera.
+  // The twelve edges of a box, clipped to the space in front of the camera, in
+  // the overlay's pixels (it is drawn at the screen's resolution, not the view's).
   function strokeBox(camera, box) {
+    const sx = overlay.width / live.frame.view_width, sy = overlay.height / live.frame.view_height;
     const corner = (i) => [box[i & 1 ? 3 : 0], box[i & 2 ? 4 : 1], box[i & 4 ? 5 : 2]];
     const edges = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]];
     const near = 1e-4;
@@ -282,18 +285,25 @@
         const cut = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), near];
         if (a[2] < near) a = cut; else b = cut;
       }
-      const pa = toPixel(camera, overlay.width, overlay.height, a);
-      const pb = toPixel(camera, overlay.width, overlay.height, b);
-      overlayContext.moveTo(pa[0], pa[1]);
-      overlayContext.lineTo(pb[0], pb[1]);
+      const pa = toPixel(camera, live.frame.view_width, live.frame.view_height, a);
+      const pb = toPixel(camera, live.frame.view_width, live.frame.view_height, b);
+      overlayContext.moveTo(pa[0] * sx, pa[1] * sy);
+      overlayContext.lineTo(pb[0] * sx, pb[1] * sy);
     }
   }
 
   function drawOverlay() {
+    const rect = overlay.getBoundingClientRect();
+    const width = Math.max(1, Math.round(rect.width * devicePixelRatio));
+    const height = Math.max(1, Math.round(rect.height * devicePixelRatio));
+    if (overlay.width !== width || overlay.height !== height) {
+      overlay.width = width;
+      overlay.height = height;
+    }
     overlayContext.clearRect(0, 0, overlay.width, overlay.height);
     const frame = live.frame;
     if (!frame) return;
-    overlayContext.lineWidth = 1;
+    overlayContext.lineWidth = Math.max(1, devicePixelRatio);
     if (live.level) {
       overlayContext.beginPath();
       overlayContext.strokeStyle = 'rgba(120, 255, 140, 0.8)';
@@ -314,7 +324,8 @@
         if (p) {
           overlayContext.beginPath();
           overlayContext.strokeStyle = '#ffffff';
-          overlayContext.arc(p[0], p[1], 4, 0, 2 * Math.PI);
+          overlayContext.arc(p[0] * overlay.width / frame.view_width, p[1] * overlay.height / frame.view_height,
+                             4 * devicePixelRatio, 0, 2 * Math.PI);
           overlayContext.stroke();
         }
       }
@@ -424,6 +435,8 @@
     }
   });
   $('cancel-render').addEventListener('click', () => request('POST', '/api/render/cancel').catch(() => {}));
+
+  new ResizeObserver(() => drawOverlay()).observe(overlay);
 
   // ------------------------------------------------------------ start
 
