@@ -33,6 +33,11 @@ uint8_t ChannelEncoder::operator()(float linear) const {
   return static_cast<uint8_t>(std::upper_bound(lowest_.begin() + 1, lowest_.end(), linear) - lowest_.begin() - 1);
 }
 
+const ChannelEncoder& channel_encoder(PngQuantization q) {
+  static const ChannelEncoder nearest(PngQuantization::kNearest), truncate(PngQuantization::kTruncate);
+  return q == PngQuantization::kTruncate ? truncate : nearest;
+}
+
 std::string film_rgba(const Film& film, Display display, const ChannelEncoder& encode, uint32_t target) {
   const size_t n = size_t(film.width) * film.height;
   std::string out(n * 4, '\xff');

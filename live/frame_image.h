@@ -1,13 +1,15 @@
-// Frames of the live view: what one published image is (8-bit RGBA pixels
-// and what the page's overlay shows about them) and how a film becomes one.
-// The pixels are the command line's PNG values: the same encoding of each
-// channel (io/image_output.h), so a frame and a PNG of the same render agree
-// byte for byte; it is computed from a table of the 255 thresholds between
-// codes instead of a power per channel.
+// Frames of the live view: what one published image is (its film, the
+// 8-bit RGBA pixels made from it, and what the page's overlay shows about
+// it) and how a film becomes pixels. The pixels are the command line's PNG
+// values: the same encoding of each channel (io/image_output.h), so a frame
+// and a PNG of the same render agree byte for byte; it is computed from a
+// table of the 255 thresholds between codes instead of a power per channel.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "io/image_output.h"
@@ -16,6 +18,23 @@
 #include "view_settings.h"
 
 namespace pt::live {
+
+/// encode_channel(x, q) for every float x, by binary search over thresholds.
+class ChannelEncoder {
+ public:
+  explicit ChannelEncoder(PngQuantization q);
+  uint8_t operator()(float linear) const;
+
+ private:
+  std::array<float, 256> lowest_{};  ///< lowest_[k]: the smallest value encoded as k or more (k >= 1)
+};
+
+/// The encoder of each quantization, built once.
+const ChannelEncoder& channel_encoder(PngQuantization q);
+
+/// The film's pixels as the page shows them: the PNG's values, or for
+/// Display::kSampleRate the sample-rate image's colours (of `target` samples).
+std::string film_rgba(const Film& film, Display display, const ChannelEncoder& encode, uint32_t target);
 
 /// What the page needs to know about a frame besides its pixels.
 struct FrameInfo {
@@ -33,23 +52,26 @@ struct FrameInfo {
   Camera camera;  ///< the view's camera at the view's size (the overlays project with it)
 };
 
-struct Frame {
-  FrameInfo info;
-  std::string rgba;  ///< width * height * 4 bytes, top row first, alpha 255
-};
-
-/// encode_channel(x, q) for every float x, by binary search over thresholds.
-class ChannelEncoder {
+/// A published frame. Its pixels are converted from the film on first use,
+/// by the thread that first sends them: not the render thread, which goes on
+/// rendering, and not at all for a frame nobody asks for.
+class Frame {
  public:
-  explicit ChannelEncoder(PngQuantization q);
-  uint8_t operator()(float linear) const;
+  Frame(const FrameInfo& i, std::shared_ptr<const Film> film, PngQuantization q)
+      : info(i), film_(std::move(film)), quantization_(q) {}
+  const FrameInfo info;
+  /// width * height * 4 bytes, top row first, alpha 255.
+  const std::string& rgba() const {
+    std::call_once(converted_,
+                   [this] { rgba_ = film_rgba(*film_, info.display, channel_encoder(quantization_), info.target); });
+    return rgba_;
+  }
 
  private:
-  std::array<float, 256> lowest_{};  ///< lowest_[k]: the smallest value encoded as k or more (k >= 1)
+  std::shared_ptr<const Film> film_;
+  PngQuantization quantization_;
+  mutable std::once_flag converted_;
+  mutable std::string rgba_;
 };
-
-/// The film's pixels as the page shows them: the PNG's values, or for
-/// Display::kSampleRate the sample-rate image's colours (of `target` samples).
-std::string film_rgba(const Film& film, Display display, const ChannelEncoder& encode, uint32_t target);
 
 }  // namespace pt::live

@@ -17,7 +17,7 @@ struct RenderSession::Progress {
   uint64_t version = 0;  ///< 0: nothing rendered yet
   int divisor = 1;       ///< resolution divisor (above 1: a preview while the camera moves)
   Accumulation acc;
-  Film film;  ///< of the last step
+  std::shared_ptr<const Film> film;  ///< of the last step (shared with its frame)
   uint32_t done = 0;
   bool complete = false;
   uint64_t rays = 0;
@@ -35,13 +35,13 @@ struct RenderSession::Step {
 };
 
 RenderSession::RenderSession(const Scene& scene, const SceneBvh4& bvh, SessionConfig config)
-    : scene_(scene), bvh_(bvh), config_(std::move(config)), encoder_(config_.quantization) {
+    : scene_(scene), bvh_(bvh), config_(std::move(config)) {
   view_.camera = config_.camera;
   view_.settings = config_.settings;
   view_.version = 1;
   view_.settings_version = 1;
   changed_at_ = Clock::now();
-  moved_at_ = changed_at_ - config_.still_after;
+  moving_until_ = changed_at_;
   thread_ = std::thread([this] { run(); });
 }
 
@@ -63,11 +63,10 @@ RenderSession::View RenderSession::view() const {
   return view_;
 }
 
-uint64_t RenderSession::changed(bool camera_moved) {
+uint64_t RenderSession::changed() {
   const Clock::time_point now = Clock::now();
   ++view_.version;
   changed_at_ = now;
-  if (camera_moved) moved_at_ = now;
   if (!running_may_finish_ && !cancel_.load()) {
     cancelled_at_ = now;
     chunks_after_cancel_.store(0);
@@ -85,6 +84,7 @@ uint64_t RenderSession::navigate(const NavInput& in) {
   std::lock_guard lock(mutex_);
   const ViewSettings& s = view_.settings;
   ViewCamera& c = view_.camera;
+  moving_until_ = in.moving ? Clock::now() + config_.still_after : Clock::now();
   switch (in.kind) {
     case NavInput::Kind::kOrbit: c = orbit(c, in.dx, in.dy, s.width, s.height); break;
     case NavInput::Kind::kPan:
@@ -92,14 +92,16 @@ uint64_t RenderSession::navigate(const NavInput& in) {
       break;
     case NavInput::Kind::kZoom: c = zoom(c, in.dx, config_.limits); break;
     case NavInput::Kind::kReset: c = config_.camera; break;
+    case NavInput::Kind::kStill: work_cv_.notify_all(); return view_.version;
   }
-  return changed(in.kind != NavInput::Kind::kReset);
+  return changed();
 }
 
 uint64_t RenderSession::set_camera(const ViewCamera& camera) {
   std::lock_guard lock(mutex_);
   view_.camera = camera;
-  return changed(false);
+  moving_until_ = Clock::now();
+  return changed();
 }
 
 uint64_t RenderSession::set_settings(const ViewSettings& settings) {
@@ -107,7 +109,7 @@ uint64_t RenderSession::set_settings(const ViewSettings& settings) {
   if (settings == view_.settings) return view_.version;
   view_.settings = settings;
   ++view_.settings_version;
-  return changed(false);
+  return changed();
 }
 
 std::shared_ptr<const Frame> RenderSession::frame_after(uint64_t after, std::chrono::milliseconds timeout) const {
@@ -159,7 +161,7 @@ void RenderSession::run() {
 bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Progress& p, Step& step) {
   for (;;) {
     if (stop_) return false;
-    const bool moving = Clock::now() - moved_at_ < config_.still_after;
+    const bool moving = Clock::now() < moving_until_;
     step.view = view_;
     step.changed_at = changed_at_;
     if (view_.version != p.version) {
@@ -174,17 +176,18 @@ bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Prog
       step.samples = 1;
       break;
     }
-    if (p.divisor == 1 && !p.complete) {
+    if (p.divisor == 1 && !p.complete && !moving) {
       step.kind = Step::Kind::kContinue;
       step.divisor = 1;
       step.samples = next_step(p.done, uint32_t(view_.settings.samples), seconds_per_sample_, config_.max_step_seconds);
       break;
     }
-    if (p.divisor == 1 && job_.state == JobState::kRendering && job_.view_version == p.version) {
+    if (p.divisor == 1 && p.complete && job_.state == JobState::kRendering && job_.view_version == p.version) {
       step.kind = Step::Kind::kWriteJob;
       return true;
     }
-    if (p.divisor > 1) work_cv_.wait_until(lock, moved_at_ + config_.still_after);
+    // While the camera moves, the next move is awaited rather than more samples of this view.
+    if (moving) work_cv_.wait_until(lock, moving_until_);
     else work_cv_.wait(lock);
   }
   // A one-sample frame expected within the budget finishes even if the view changes meanwhile.
@@ -220,14 +223,15 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   RenderOutput out = wf::render_wavefront(scene_, camera, rs, wf::Tracing{.bvh4 = &bvh_}, options, control);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  std::unique_lock lock(mutex_);
-  running_may_finish_ = false;
   if (out.cancelled) {
+    std::lock_guard lock(mutex_);
+    running_may_finish_ = false;
     ++counters_.passes_cancelled;
     counters_.max_chunks_after_cancel = std::max(counters_.max_chunks_after_cancel, chunks_after_cancel_.load());
     counters_.last_cancel_seconds = std::chrono::duration<double>(Clock::now() - cancelled_at_).count();
     return;
   }
+  // `p` and the measured rates belong to this thread; the lock guards what others read.
   if (restart) {
     p = Progress{};
     p.version = step.view.version;
@@ -235,22 +239,23 @@ void RenderSession::render_step(const Step& step, Progress& p) {
     p.started = step.changed_at;
   }
   if (!reached.pixels.empty()) p.acc = std::move(reached);
-  p.film = std::move(out.film);
+  p.film = std::make_shared<const Film>(std::move(out.film));
   p.done = first + step.samples;
   p.rays += out.stats.rays();
   p.render_seconds += seconds;
   p.complete =
       p.done >= uint32_t(vs.samples) ||
       std::all_of(p.acc.pixels.begin(), p.acc.pixels.end(), [](const PixelAccumulator& a) { return a.converged != 0; });
-  if (step.divisor == 1) {
-    seconds_per_sample_ = seconds / step.samples;
-    if (restart) full_frame_seconds_ = seconds;
-  }
+  // The time of one sample at the view's size, from every render: it picks the preview's divisor.
+  if (step.divisor == 1) seconds_per_sample_ = seconds / step.samples;
+  full_frame_seconds_ = step.divisor == 1 ? seconds_per_sample_ : seconds * step.divisor * step.divisor;
+
+  std::lock_guard lock(mutex_);
+  running_may_finish_ = false;
   if (job_.state == JobState::kRendering && job_.view_version == p.version && p.divisor == 1)
     job_.progress = double(p.done) / vs.samples;
 
-  auto frame = std::make_shared<Frame>();
-  FrameInfo& info = frame->info;
+  FrameInfo info;
   info.id = latest_ ? latest_->info.id + 1 : 1;
   info.view_version = p.version;
   info.width = width;
@@ -265,9 +270,7 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   info.rays = p.rays;
   info.display = vs.display;
   info.camera = resolve_camera(step.view.camera, vs.width, vs.height);
-  lock.unlock();
-  frame->rgba = film_rgba(p.film, vs.display, encoder_, info.target);
-  lock.lock();
+  auto frame = std::make_shared<const Frame>(info, p.film, config_.quantization);
   if (config_.on_frame) config_.on_frame(frame->info);
   latest_ = std::move(frame);
   ++counters_.frames;
@@ -284,8 +287,8 @@ void RenderSession::write_job(const Progress& p) {
   }
   std::string error;
   try {
-    write_image(path, p.film, config_.quantization);
-    if (adaptive) write_sample_rate_image(rate_image_path(path), p.film);
+    write_image(path, *p.film, config_.quantization);
+    if (adaptive) write_sample_rate_image(rate_image_path(path), *p.film);
   } catch (const std::exception& e) { error = e.what(); }
   std::lock_guard lock(mutex_);
   if (job_.state != JobState::kRendering) return;  // cancelled while writing: the file is written all the same

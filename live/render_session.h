@@ -4,7 +4,8 @@
 // A change restarts the view from its first sample: it cancels the running
 // pass within one wave (RenderControl::cancel is checked per chunk of paths),
 // except a one-sample frame expected within the frame budget, which finishes
-// so that a moving camera keeps producing frames. Samples accumulate in
+// so that a moving camera keeps producing frames; while the camera moves, only
+// such first frames are rendered, and accumulation resumes once it stops. Samples accumulate in
 // sample order from step to step (resume_from), so a still view at N samples
 // is the image `pathtracer -s N` renders with the same camera and flags.
 #pragma once
@@ -36,17 +37,19 @@ struct SessionConfig {
   PngQuantization quantization = PngQuantization::kNearest;
   double frame_budget = 1.0 / 30;                  ///< seconds a frame may take while the camera moves
   double max_step_seconds = 0.25;                  ///< the longest progressive step of a still view
-  std::chrono::milliseconds still_after{150};      ///< no camera move for this long: full resolution again
+  std::chrono::milliseconds still_after{150};      ///< a drag without a move for this long has ended (without kStill)
   size_t wave_paths = 4096;                        ///< camera samples per wave at -l 1 (fewer for more light samples)
   std::function<void(uint64_t chunk)> on_chunk;    ///< tests: called after each chunk of paths (render threads)
   std::function<void(const FrameInfo&)> on_frame;  ///< tests: called as each frame is published (render thread)
 };
 
 /// A camera move from the page, in pixels of the view (zoom: wheel steps).
+/// kStill changes nothing but says the camera stopped (a drag ended).
 struct NavInput {
-  enum class Kind : uint8_t { kOrbit, kPan, kZoom, kReset };
+  enum class Kind : uint8_t { kOrbit, kPan, kZoom, kReset, kStill };
   Kind kind = Kind::kOrbit;
   double dx = 0, dy = 0;  ///< orbit, pan: pixels; zoom: dx steps
+  bool moving = false;    ///< more moves follow (a drag): preview frames until kStill or `still_after`
 };
 
 enum class JobState : uint8_t { kIdle, kRendering, kDone, kFailed, kCancelled };
@@ -112,25 +115,25 @@ class RenderSession {
   bool wait_for_work(std::unique_lock<std::mutex>& lock, const Progress& p, Step& step);
   void render_step(const Step& step, Progress& p);
   void write_job(const Progress& p);
-  uint64_t changed(bool camera_moved);  ///< under the lock: bump the version, cancel what is stale
+  uint64_t changed();  ///< under the lock: bump the version, cancel what is stale
 
   const Scene& scene_;
   const SceneBvh4& bvh_;
   const SessionConfig config_;
-  const ChannelEncoder encoder_;
 
   mutable std::mutex mutex_;
   std::condition_variable work_cv_;
   mutable std::condition_variable frame_cv_;
   View view_;
-  std::chrono::steady_clock::time_point changed_at_, moved_at_;
+  std::chrono::steady_clock::time_point changed_at_;
+  std::chrono::steady_clock::time_point moving_until_;  ///< a drag is under way until then
   std::shared_ptr<const Frame> latest_;
   RenderJob job_;
   SessionCounters counters_;
   bool stop_ = false;
   bool running_may_finish_ = false;  ///< the running render is a short one-sample frame
-  double full_frame_seconds_ = 0;    ///< one sample per pixel at the view's size, as measured
-  double seconds_per_sample_ = 0;    ///< the same, from the last progressive step
+  double full_frame_seconds_ = 0;    ///< one sample per pixel at the view's size, as last measured (render thread)
+  double seconds_per_sample_ = 0;    ///< the same, from the last full-resolution step (render thread)
 
   std::atomic<bool> cancel_{false};
   std::atomic<uint64_t> chunks_after_cancel_{0};

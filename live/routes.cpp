@@ -179,7 +179,7 @@ void add_frame_route(httplib::Server& server, RouteContext& ctx) {
                const uint32_t n = uint32_t(meta.size());
                for (int i = 0; i < 4; ++i) body[i] = char((n >> (8 * i)) & 0xff);
                body += meta;
-               body += frame->rgba;
+               body += frame->rgba();
                res.set_content(body, "application/octet-stream");
              }));
 }

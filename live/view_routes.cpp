@@ -10,12 +10,13 @@ namespace {
 constexpr double kMaxPixels = 1e5;       ///< the largest move one request makes, in pixels
 constexpr double kMaxZoomSteps = 100;    ///< 1.1^100: 13780 times nearer or farther
 constexpr float kMaxCoordinate = 1e15f;  ///< the scene loader's coordinate limit
-constexpr std::array<const char*, 4> kNavOps = {"orbit", "pan", "zoom", "reset"};
+constexpr std::array<const char*, 5> kNavOps = {"orbit", "pan", "zoom", "reset", "still"};  // NavInput::Kind
 
 void navigate(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
-  RequestParams params(req.params, {"op", "dx", "dy", "steps"});
+  RequestParams params(req.params, {"op", "dx", "dy", "steps", "moving"});
   NavInput in;
   in.kind = static_cast<NavInput::Kind>(params.choice("op", kNavOps));
+  in.moving = params.has("moving") && params.integer("moving", 0, 1) == 1;
   if (in.kind == NavInput::Kind::kOrbit || in.kind == NavInput::Kind::kPan) {
     if (params.has("steps")) throw ParamError("steps: only op=zoom takes it");
     in.dx = params.number("dx", -kMaxPixels, kMaxPixels);
@@ -24,7 +25,7 @@ void navigate(RouteContext& ctx, const httplib::Request& req, httplib::Response&
     if (params.has("dx") || params.has("dy")) throw ParamError("dx, dy: op=zoom takes steps");
     in.dx = params.number("steps", -kMaxZoomSteps, kMaxZoomSteps);
   } else if (params.has("dx") || params.has("dy") || params.has("steps")) {
-    throw ParamError("op=reset takes no other parameter");
+    throw ParamError("op=" + req.get_param_value("op") + " takes no dx, dy or steps");
   }
   reply_json(res, {{"version", ctx.session.navigate(in)}});
 }

@@ -1,5 +1,5 @@
 // The live view's page: draws the frames the server renders (asking for the
-// next one only after the last is painted), sends camera moves (one request
+// next one only after the last is drawn), sends camera moves (one request
 // in flight, the moves made meanwhile coalesced), keeps the controls in step
 // with the shared view, and draws the BVH overlays. No framework, no network
 // but this server.
@@ -19,7 +19,6 @@
   window.ptLive = live;
 
   const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
-  const painted = () => new Promise((resolve) => requestAnimationFrame(() => resolve()));
 
   function showMessage(text, isError) {
     $('message').textContent = text;
@@ -75,37 +74,63 @@
     $('stat-fps').textContent = recentFrames.length + ' frames/s';
   }
 
+  // A hidden tab holds no request open (browsers allow six connections to a
+  // server: open tabs must not use them up); it asks again once shown.
+  let polling = null;
+  const shown = () => new Promise((resolve) => {
+    if (!document.hidden) return resolve();
+    document.addEventListener('visibilitychange', function wait() {
+      if (document.hidden) return;
+      document.removeEventListener('visibilitychange', wait);
+      resolve();
+    });
+  });
+  document.addEventListener('visibilitychange', () => {
+    if (document.hidden && polling) polling.abort();
+  });
+
+  // The next frame after `after`: the bytes, 'again' (none yet, or the tab was hidden) or 'lost'.
+  async function fetchFrame(after) {
+    try {
+      polling = new AbortController();
+      const res = await fetch('/api/frame?after=' + after, {cache: 'no-store', signal: polling.signal});
+      if (res.status === 204) return 'again';
+      return res.ok ? await res.arrayBuffer() : 'lost';
+    } catch (e) {
+      return e.name === 'AbortError' ? 'again' : 'lost';
+    }
+  }
+
   async function frameLoop() {
-    let after = 0;
+    let after = 0, lost = false;
     for (;;) {
-      let res;
-      try {
-        res = await fetch('/api/frame?after=' + after, {cache: 'no-store'});
-      } catch (e) {
+      await shown();
+      const buffer = await fetchFrame(after);
+      if (buffer === 'again') continue;
+      if (buffer === 'lost') {
         showMessage('connection to the server lost; retrying', true);
+        lost = true;
         await sleep(1000);
         continue;
       }
-      if (res.status === 204) continue;
-      if (!res.ok) {
-        await sleep(500);
-        continue;
-      }
-      const buffer = await res.arrayBuffer();
+      if (lost) showMessage('');
+      lost = false;
       const length = new DataView(buffer).getUint32(0, true);
       const meta = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, length)));
       draw(meta, new Uint8ClampedArray(buffer.slice(4 + length)));
-      after = meta.id;
-      await painted();  // back-pressure: the next frame is asked for once this one is on screen
+      after = meta.id;  // back-pressure: the next frame is asked for only once this one is drawn
     }
   }
 
   // ------------------------------------------------------------ camera moves
 
-  const pending = {reset: false, orbit: [0, 0], pan: [0, 0], zoom: 0};
+  // Moves made while a request is in flight, summed; `moving`: a drag or the
+  // wheel, which more moves follow (the server shows previews until `still`).
+  const pending = {reset: false, orbit: [0, 0], pan: [0, 0], zoom: 0, moving: false, still: false};
   let navInFlight = false;
 
   function takeNav() {
+    const moving = pending.moving ? {moving: 1} : {};
     if (pending.reset) {
       pending.reset = false;
       return {op: 'reset'};
@@ -114,13 +139,18 @@
       const [dx, dy] = pending[op];
       if (dx !== 0 || dy !== 0) {
         pending[op] = [0, 0];
-        return {op, dx: dx.toFixed(3), dy: dy.toFixed(3)};
+        return {op, dx: dx.toFixed(3), dy: dy.toFixed(3), ...moving};
       }
     }
     if (pending.zoom !== 0) {
       const steps = Math.max(-100, Math.min(100, pending.zoom));
       pending.zoom = 0;
-      return {op: 'zoom', steps: steps.toFixed(3)};
+      return {op: 'zoom', steps: steps.toFixed(3), ...moving};
+    }
+    pending.moving = false;
+    if (pending.still) {  // after the last move of a drag: the view may accumulate
+      pending.still = false;
+      return {op: 'still'};
     }
     return null;
   }
@@ -141,9 +171,10 @@
     pumpNav();
   }
 
-  function move(op, dx, dy) {
+  function move(op, dx, dy, moving) {
     pending[op][0] += dx;
     pending[op][1] += dy;
+    pending.moving = pending.moving || moving;
     pumpNav();
   }
 
@@ -167,14 +198,19 @@
     const dx = p[0] - drag.last[0], dy = p[1] - drag.last[1];
     drag.last = p;
     drag.moved += Math.abs(dx) + Math.abs(dy);
-    if (dx !== 0 || dy !== 0) move(drag.pan ? 'pan' : 'orbit', dx, dy);
+    if (dx !== 0 || dy !== 0) move(drag.pan ? 'pan' : 'orbit', dx, dy, true);
   });
   const endDrag = (event) => {
     if (!drag || event.pointerId !== drag.id) return;
     const click = drag.moved < 3;
     const point = drag.start;
     drag = null;
-    if (click && $('walk').checked) walkPixel(point[0], point[1]);
+    if (!click) {
+      pending.still = true;
+      pumpNav();
+    } else if ($('walk').checked) {
+      walkPixel(point[0], point[1]);
+    }
   };
   overlay.addEventListener('pointerup', endDrag);
   overlay.addEventListener('pointercancel', endDrag);
@@ -183,6 +219,7 @@
     event.preventDefault();
     const unit = event.deltaMode === 1 ? 1 / 3 : event.deltaMode === 2 ? 3 : 1 / 100;
     pending.zoom += event.deltaY * unit;
+    pending.moving = true;  // wheels turn in bursts: the server waits out a short pause before accumulating
     pumpNav();
   }, {passive: false});
   document.addEventListener('keydown', (event) => {
@@ -191,7 +228,7 @@
     const step = 20;
     const arrows = {ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step]};
     if (arrows[event.key]) {
-      move(event.shiftKey ? 'pan' : 'orbit', arrows[event.key][0], arrows[event.key][1]);
+      move(event.shiftKey ? 'pan' : 'orbit', arrows[event.key][0], arrows[event.key][1], false);
     } else if (event.key === '+' || event.key === '=') {
       pending.zoom -= 1;
       pumpNav();

@@ -74,7 +74,7 @@ RenderOutput engine_render(const RenderSession& session) {
 void expect_frame_is_render(const Frame& f, const RenderOutput& r, uint32_t samples) {
   EXPECT_EQ(f.info.samples, samples);
   EXPECT_EQ(f.info.width, r.film.width);
-  EXPECT_EQ(film_rgba(r.film, f.info.display, ChannelEncoder(PngQuantization::kNearest), f.info.target), f.rgba);
+  EXPECT_EQ(film_rgba(r.film, f.info.display, ChannelEncoder(PngQuantization::kNearest), f.info.target), f.rgba());
 }
 
 struct Variant {
@@ -205,7 +205,40 @@ TEST(RenderSession, TabsShareOneRender) {
   EXPECT_TRUE(session.frame_after(1000000, milliseconds(0)));
 }
 
-TEST(RenderSession, WhileTheCameraMovesFramesArePreviewsThenFullResolution) {
+/// The frames of view `v`: a one-sample preview at half resolution while the
+/// drag goes on, then from one sample again at full resolution, to -s.
+void expect_preview_then_full(FrameLog& log, RenderSession& session, uint64_t v) {
+  std::shared_ptr<const Frame> done = complete_frame(session, v);
+  ASSERT_TRUE(done);
+  std::vector<FrameInfo> frames = log.of_version(v);
+  ASSERT_GE(frames.size(), 2u);
+  EXPECT_EQ(frames[0].width, kW / 2);
+  EXPECT_EQ(frames[0].height, kH / 2);
+  EXPECT_EQ(frames[0].samples, 1u);
+  EXPECT_FALSE(frames[0].complete);
+  EXPECT_EQ(frames[1].width, kW);
+  EXPECT_EQ(frames[1].samples, 1u);
+  EXPECT_EQ(done->info.width, kW);
+  expect_frame_is_render(*done, engine_render(session), 4);
+}
+
+TEST(RenderSession, ADragShowsPreviewsUntilItEnds) {
+  FrameLog log;
+  SessionConfig c = config(4);
+  c.settings.preview = 2;
+  c.still_after = milliseconds(60000);  // only the end of the drag ends the previews
+  log.attach(c);
+  RenderSession session(cornell().scene(), cornell().bvh, c);
+  ASSERT_TRUE(complete_frame(session, 1));
+  const uint64_t v = session.navigate({NavInput::Kind::kPan, 3.0, 1.0, true});
+  while (log.of_version(v).empty()) std::this_thread::sleep_for(milliseconds(1));
+  std::this_thread::sleep_for(milliseconds(50));
+  EXPECT_EQ(log.of_version(v).size(), 1u) << "no samples beyond the preview while the drag goes on";
+  EXPECT_EQ(session.navigate({NavInput::Kind::kStill}), v) << "the end of a drag changes no view";
+  expect_preview_then_full(log, session, v);
+}
+
+TEST(RenderSession, ADragThatFallsSilentEndsAfterStillAfter) {
   FrameLog log;
   SessionConfig c = config(4);
   c.settings.preview = 2;
@@ -213,19 +246,20 @@ TEST(RenderSession, WhileTheCameraMovesFramesArePreviewsThenFullResolution) {
   log.attach(c);
   RenderSession session(cornell().scene(), cornell().bvh, c);
   ASSERT_TRUE(complete_frame(session, 1));
-  const uint64_t v = session.navigate({NavInput::Kind::kPan, 3.0, 1.0});
-  std::shared_ptr<const Frame> done = complete_frame(session, v);
-  ASSERT_TRUE(done);
-  std::vector<FrameInfo> frames = log.of_version(v);
-  ASSERT_GE(frames.size(), 2u);
-  EXPECT_EQ(frames[0].width, kW / 2);  // the preview: one sample at half resolution
-  EXPECT_EQ(frames[0].height, kH / 2);
-  EXPECT_EQ(frames[0].samples, 1u);
-  EXPECT_FALSE(frames[0].complete);
-  EXPECT_EQ(frames[1].width, kW);  // still: full resolution from the first sample again
-  EXPECT_EQ(frames[1].samples, 1u);
-  EXPECT_EQ(done->info.width, kW);
-  expect_frame_is_render(*done, engine_render(session), 4);
+  expect_preview_then_full(log, session, session.navigate({NavInput::Kind::kOrbit, 3.0, 1.0, true}));
+}
+
+TEST(RenderSession, ADiscreteMoveAccumulatesAtOnce) {
+  FrameLog log;
+  SessionConfig c = config(4);
+  c.settings.preview = 2;
+  c.still_after = milliseconds(60000);
+  log.attach(c);
+  RenderSession session(cornell().scene(), cornell().bvh, c);
+  ASSERT_TRUE(complete_frame(session, 1));
+  const uint64_t v = session.navigate({NavInput::Kind::kZoom, -1.0});  // a key or a click: nothing follows
+  ASSERT_TRUE(complete_frame(session, v));
+  for (const FrameInfo& f : log.of_version(v)) EXPECT_EQ(f.width, kW);
 }
 
 TEST(RenderSession, AMoveCancelsTheRenderJobAndTheJobWritesNoFile) {
