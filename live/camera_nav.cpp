@@ -49,6 +49,28 @@ void set_angles(ViewCamera& v, const D3& dir) {
   v.theta = float(std::atan2(dir.x, dir.z));
 }
 
+/// The file keeps fields of view in degrees, as floats: of the floats near
+/// the converted angles, takes a pair that resolves to `c`'s tangents exactly
+/// when there is one (so the unmoved view is the command line's camera to the
+/// bit, and so is its saved file).
+void keep_tangents(ViewCamera& v, const Camera& c, int width, int height) {
+  auto ulps = [](float x, int n) {  // x moved by n floats
+    for (; n > 0; --n) x = std::nextafter(x, 180.0f);
+    for (; n < 0; ++n) x = std::nextafter(x, 0.0f);
+    return x;
+  };
+  const float h0 = v.hfov_deg, v0 = v.vfov_deg;
+  for (int i = 0; i <= 32; ++i)
+    for (int j = 0; j <= 32; ++j) {
+      v.hfov_deg = ulps(h0, i % 2 ? (i + 1) / 2 : -i / 2);  // 0, 1, -1, 2, -2, ...
+      v.vfov_deg = ulps(v0, j % 2 ? (j + 1) / 2 : -j / 2);
+      const Camera r = resolve_camera(v, width, height);
+      if (r.tan_half_hfov == c.tan_half_hfov && r.tan_half_vfov == c.tan_half_vfov) return;
+    }
+  v.hfov_deg = h0;
+  v.vfov_deg = v0;
+}
+
 }  // namespace
 
 NavLimits nav_limits(const BBox& b) {
@@ -69,6 +91,7 @@ ViewCamera view_from_camera(const Camera& c, int width, int height, float3 centr
   v.min_r = limits.min_r;
   v.max_r = limits.max_r;
   set_angles(v, unit(to_camera));
+  keep_tangents(v, c, width, height);
   return v;
 }
 

@@ -158,8 +158,11 @@ def main():
     args = parser.parse_args()
     if args.flags:
         FLAGS[:] = args.flags.split()
-    scene = next((s for s in args.scene if os.path.exists(s)), None)
+    scene = next((os.path.abspath(s) for s in args.scene if os.path.exists(s)), None)
     assert scene, "none of the scenes exists: " + " ".join(args.scene)
+    args.pathtracer = os.path.abspath(args.pathtracer)
+    if args.screenshot:
+        args.screenshot = os.path.abspath(args.screenshot)
     workdir = tempfile.mkdtemp(prefix="pt-browser-")
     server = Server(args.pathtracer, scene, workdir)
     driver = None
