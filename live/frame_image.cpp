@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 
 namespace pt::live {
 namespace {
@@ -24,13 +26,18 @@ float lowest_encoded_as(uint8_t code, PngQuantization q) {
 }  // namespace
 
 ChannelEncoder::ChannelEncoder(PngQuantization q) {
-  lowest_[0] = 0.0f;
-  for (int k = 1; k < 256; ++k) lowest_[k] = lowest_encoded_as(static_cast<uint8_t>(k), q);
-}
-
-uint8_t ChannelEncoder::operator()(float linear) const {
-  if (!(linear >= lowest_[1])) return 0;  // below the first threshold, negative or NaN
-  return static_cast<uint8_t>(std::upper_bound(lowest_.begin() + 1, lowest_.end(), linear) - lowest_.begin() - 1);
+  std::array<float, 257> lowest{};  // lowest[k]: the smallest value encoded as k or more; lowest[256] = +inf
+  for (int k = 1; k < 256; ++k) lowest[k] = lowest_encoded_as(static_cast<uint8_t>(k), q);
+  lowest[256] = std::numeric_limits<float>::infinity();
+  int code = 0;
+  for (size_t b = 0; b < kBuckets; ++b) {
+    const float start = std::bit_cast<float>(uint32_t(b << kBucketBits));
+    const float end = std::bit_cast<float>(uint32_t(((b + 1) << kBucketBits) - 1));
+    while (code < 255 && lowest[code + 1] <= start) ++code;
+    first_[b] = uint8_t(code);
+    threshold_[b] = lowest[code + 1] <= end ? lowest[code + 1] : std::numeric_limits<float>::infinity();
+    if (code + 2 <= 255 && lowest[code + 2] <= end) std::abort();  // two thresholds in a bucket: the premise fails
+  }
 }
 
 const ChannelEncoder& channel_encoder(PngQuantization q) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -19,14 +20,26 @@
 
 namespace pt::live {
 
-/// encode_channel(x, q) for every float x, by binary search over thresholds.
+/// encode_channel(x, q) for every float x, from tables: the non-negative
+/// floats below 2 fall in 2^14 buckets of 2^16 consecutive bit patterns, and a
+/// bucket holds at most one of the 255 thresholds between codes (they lie at
+/// least ~10^5 patterns apart), so a value's code is its bucket's first code,
+/// plus one past the bucket's threshold: no branch on the value.
 class ChannelEncoder {
  public:
   explicit ChannelEncoder(PngQuantization q);
-  uint8_t operator()(float linear) const;
+  uint8_t operator()(float linear) const {
+    const uint32_t bits = std::bit_cast<uint32_t>(linear);
+    if (bits >= 0x40000000u) return bits <= 0x7f800000u ? 255 : 0;  // [2, +inf]: 255; NaN, -0 and below: 0
+    const uint32_t b = bits >> kBucketBits;
+    return uint8_t(first_[b] + (linear >= threshold_[b]));
+  }
 
  private:
-  std::array<float, 256> lowest_{};  ///< lowest_[k]: the smallest value encoded as k or more (k >= 1)
+  static constexpr int kBucketBits = 16;
+  static constexpr size_t kBuckets = (size_t(0x40000000) >> kBucketBits);  ///< bit patterns of [0, 2)
+  std::array<uint8_t, kBuckets> first_{};                                  ///< the code of the bucket's first value
+  std::array<float, kBuckets> threshold_{};  ///< the smallest value of the bucket with the next code, else +inf
 };
 
 /// The encoder of each quantization, built once.

@@ -1,6 +1,7 @@
 // How the live view spends its time: the samples of each progressive step
-// (doubling, so the counts shown are 1, 2, 4, 8, ...; capped so that a still
-// view still updates a few times a second) and the resolution divisor of a
+// (the counts shown are 1, 4, 16, 64, ...: each step three times the samples
+// so far, fewer steps than doubling for the same early frames; capped so that
+// a still view still updates a few times a second) and the resolution divisor of a
 // frame while the camera moves (the largest image that keeps the frame rate).
 // Pure functions of measured rates, so the policy is testable without clocks.
 #pragma once
@@ -11,12 +12,12 @@
 
 namespace pt::live {
 
-/// Samples per pixel of the step after `done` of `target`: `done` (at least
-/// 1), at most what takes `max_step_seconds` at `seconds_per_sample` (at least
-/// 1; a rate of 0 means unknown: no cap), never past the target.
+/// Samples per pixel of the step after `done` of `target`: 3 x `done` (at
+/// least 1), at most what takes `max_step_seconds` at `seconds_per_sample` (at
+/// least 1; a rate of 0 means unknown: no cap), never past the target.
 inline uint32_t next_step(uint32_t done, uint32_t target, double seconds_per_sample, double max_step_seconds) {
   if (done >= target) return 0;
-  double step = std::max<double>(done, 1.0);
+  double step = std::max<double>(3.0 * done, 1.0);
   if (seconds_per_sample > 0.0) step = std::min(step, std::max(1.0, std::floor(max_step_seconds / seconds_per_sample)));
   return static_cast<uint32_t>(std::min<double>(step, target - done));
 }

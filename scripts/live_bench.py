@@ -2,10 +2,11 @@
 """Measures the live view against its targets and prints medians:
 
   frames/s while the camera moves  the page in headless Chromium, the camera
-                                   orbited by pointer events every animation
-                                   frame: new views drawn per second; and an
-                                   HTTP client alone (move, then wait for the
-                                   moved view's frame, repeated)
+                                   orbited to and fro about the scene's camera
+                                   by pointer events every animation frame:
+                                   new views drawn per second; and an HTTP
+                                   client alone (move, then wait for the moved
+                                   view's frame, repeated)
   first frame                      ms from the start of a page load to its
                                    first frame drawn (fresh tabs)
   time to 64 samples               from a camera move to the still view's
@@ -71,12 +72,15 @@ def median(values):
 
 
 def http_frames_per_second(live, seconds):
-    """Drag (moves that more moves follow), waiting for each move's frame: moved views per second."""
+    """Drag (moves that more moves follow) to and fro about the scene's camera, waiting for each move's
+    frame: moved views per second."""
+    live.post("/api/nav?op=reset")
     after = live.frame(0)["id"]
     start = time.time()
     views = 0
     while time.time() - start < seconds:
-        version = live.post("/api/nav?op=orbit&dx=3&dy=0.5&moving=1")["version"]
+        dx = 3 if views % 40 < 20 else -3
+        version = live.post("/api/nav?op=orbit&dx=%d&dy=0&moving=1" % dx)["version"]
         while True:
             f = live.frame(after)
             after = f["id"]
@@ -131,6 +135,8 @@ def browser_figures(url, seconds, loads):
                 time.sleep(0.02)
             first.append(driver.execute_script("return ptLive.firstFrameMs"))
         driver.execute_script("document.getElementById('overlay').scrollIntoView()")
+        urllib.request.urlopen(urllib.request.Request(url + "/api/nav?op=reset", method="POST",
+                                                      headers={"X-PT-Live": "1"}))
         # Orbit with pointer events once per animation frame (as a mouse drag sends them) for `seconds`.
         result = driver.execute_async_script("""
             const [seconds, done] = arguments;
@@ -143,8 +149,8 @@ def browser_figures(url, seconds, loads):
             const start = performance.now();
             const drawn0 = ptLive.framesDrawn;
             let views = new Set(), last = null, moves = 0;
-            function step() {
-              x += 2; moves += 1;
+            function step() {  // to and fro: 40 px each way, about the scene's camera
+              x += moves % 40 < 20 ? 2 : -2; moves += 1;
               fire('pointermove');
               const f = ptLive.frame;
               if (f !== last) { views.add(f.version); last = f; }
@@ -206,6 +212,7 @@ def main():
                   1e3 * median(lat), " ".join("%.1f" % (1e3 * v) for v in lat), counters["max_chunks_after_cancel"]))
         live.post("/api/settings?samples=64")
         if not args.no_browser:
+            live.post("/api/settings?preview=1")  # full resolution while moving: the target's condition
             first, (ms, drawn, views, moves, width, view_width) = browser_figures(live.url, 5.0, args.runs)
             print("first frame after a page load: median %.0f ms (loads: %s)" % (
                 median(first), " ".join("%.0f" % v for v in first)))
