@@ -190,9 +190,10 @@ bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Prog
     if (moving) work_cv_.wait_until(lock, moving_until_);
     else work_cv_.wait(lock);
   }
-  // A one-sample frame expected within the budget finishes even if the view changes meanwhile.
+  // A view's first frame finishes even if the view changes meanwhile when it is expected within the
+  // budget, or when the last one was cancelled: a camera that keeps moving keeps producing frames.
   const double expected = full_frame_seconds_ / (double(step.divisor) * step.divisor);
-  running_may_finish_ = step.kind == Step::Kind::kRestart && expected <= config_.frame_budget;
+  running_may_finish_ = step.kind == Step::Kind::kRestart && (expected <= config_.frame_budget || starved_);
   cancel_.store(false);
   return true;
 }
@@ -227,6 +228,7 @@ void RenderSession::render_step(const Step& step, Progress& p) {
     std::lock_guard lock(mutex_);
     running_may_finish_ = false;
     ++counters_.passes_cancelled;
+    starved_ = starved_ || restart;
     counters_.max_chunks_after_cancel = std::max(counters_.max_chunks_after_cancel, chunks_after_cancel_.load());
     counters_.last_cancel_seconds = std::chrono::duration<double>(Clock::now() - cancelled_at_).count();
     return;
@@ -271,6 +273,7 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   info.display = vs.display;
   info.camera = resolve_camera(step.view.camera, vs.width, vs.height);
   auto frame = std::make_shared<const Frame>(info, p.film, config_.quantization);
+  starved_ = false;
   if (config_.on_frame) config_.on_frame(frame->info);
   latest_ = std::move(frame);
   ++counters_.frames;

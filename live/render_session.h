@@ -3,9 +3,10 @@
 // frames; HTTP handlers change the view and wait for frames, never render.
 // A change restarts the view from its first sample: it cancels the running
 // pass within one wave (RenderControl::cancel is checked per chunk of paths),
-// except a one-sample frame expected within the frame budget, which finishes
-// so that a moving camera keeps producing frames; while the camera moves, only
-// such first frames are rendered, and accumulation resumes once it stops. Samples accumulate in
+// except a view's first frame (one sample) that is expected within the frame
+// budget or follows a cancelled one, which finishes, so that a moving camera
+// keeps producing frames; while the camera moves, only such first frames are
+// rendered, and accumulation resumes once it stops. Samples accumulate in
 // sample order from step to step (resume_from), so a still view at N samples
 // is the image `pathtracer -s N` renders with the same camera and flags.
 #pragma once
@@ -131,7 +132,8 @@ class RenderSession {
   RenderJob job_;
   SessionCounters counters_;
   bool stop_ = false;
-  bool running_may_finish_ = false;  ///< the running render is a short one-sample frame
+  bool running_may_finish_ = false;  ///< the running render is a view's first frame that a change does not cancel
+  bool starved_ = false;             ///< a view's first frame was cancelled since the last frame published
   double full_frame_seconds_ = 0;    ///< one sample per pixel at the view's size, as last measured (render thread)
   double seconds_per_sample_ = 0;    ///< the same, from the last full-resolution step (render thread)
 

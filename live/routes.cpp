@@ -141,7 +141,7 @@ void add_state_routes(httplib::Server& server, RouteContext& ctx) {
                const Isa isa = ctx.bvh.isa();
                reply_json(
                    res, {{"scene", ctx.config.scene_name},
-                         {"triangles", ctx.bvh.bvh().blocks.size() * 4},
+                         {"triangles", ctx.bvh.stats().triangles},
                          {"isa", std::string(isa_name(isa))},
                          {"lanes", isa_lanes(isa)},
                          {"threads", ctx.session.config().base.threads},

@@ -166,7 +166,7 @@ TEST(RenderSession, ACameraMoveRestartsTheViewFromItsFirstSample) {
 }
 
 TEST(RenderSession, AChangeCancelsTheRunningPassWithinOneWave) {
-  SessionConfig c = config(64);
+  SessionConfig c = config(16);  // steps of 1, 3 and 12 samples
   c.settings.width = c.base.width = 96;
   c.settings.height = c.base.height = 72;
   c.wave_paths = 256;    // 6912 pixels: 27 chunks per sample, each checked for the cancel
@@ -188,6 +188,34 @@ TEST(RenderSession, AChangeCancelsTheRunningPassWithinOneWave) {
   EXPECT_EQ(n.passes_cancelled, 1u);
   // After the cancel only the chunks already running finish: at most one per thread.
   EXPECT_LE(n.max_chunks_after_cancel, uint64_t(c.base.threads));
+}
+
+TEST(RenderSession, ACameraThatKeepsMovingKeepsProducingFramesEvenWhenTheyAreSlow) {
+  FrameLog log;
+  SessionConfig c = config(4);
+  c.settings.width = c.base.width = 96;
+  c.settings.height = c.base.height = 72;
+  c.settings.preview = 1;  // full resolution while moving
+  c.wave_paths = 256;      // 27 chunks per frame
+  c.frame_budget = 0.0;    // no frame is expected within the budget
+  c.still_after = milliseconds(60000);
+  log.attach(c);
+  RenderSession* self = nullptr;
+  std::atomic<int> moves{0};
+  c.on_chunk = [&](uint64_t chunk) {  // a move during every render: each would cancel the frame under way
+    if (chunk == 2 && moves.load() < 20 && moves.fetch_add(1) < 20)
+      self->navigate({NavInput::Kind::kOrbit, 2.0, 0.0, true});
+  };
+  RenderSession session(cornell().scene(), cornell().bvh, c);
+  self = &session;
+  while (moves.load() < 20) std::this_thread::sleep_for(milliseconds(1));
+  const uint64_t last = session.navigate({NavInput::Kind::kPan, 1.0, 0.0});
+  ASSERT_TRUE(complete_frame(session, last));
+  size_t moving_frames = 0;
+  for (uint64_t v = 2; v < last; ++v) moving_frames += log.of_version(v).size();
+  // The first view's frame finishes; then every cancelled frame is followed by one that finishes.
+  EXPECT_GE(moving_frames, 9u);
+  EXPECT_LE(session.counters().passes_cancelled, 11u);
 }
 
 TEST(RenderSession, TabsShareOneRender) {
