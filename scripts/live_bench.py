@@ -193,10 +193,12 @@ def main():
             live_wall.append(wall)
             live_server.append(server)
             cli.append(cli_seconds(args.pathtracer, flags, args.scene, 64, camera))
+        ratios = [a / b for a, b in zip(live_wall, cli)]
         print("time to 64 samples after a move: live %.3f s at the client (server %.3f s); command line -s 64: %.3f s;"
-              " live / command line = %.3f (runs: live %s; command line %s)" % (
-                  median(live_wall), median(live_server), median(cli), median(live_wall) / median(cli),
-                  " ".join("%.3f" % v for v in live_wall), " ".join("%.3f" % v for v in cli)))
+              " live / command line: %.3f (median of the %d interleaved pairs; range %.3f-%.3f) (runs: live %s;"
+              " command line %s)" % (
+                  median(live_wall), median(live_server), median(cli), median(ratios), len(ratios), min(ratios),
+                  max(ratios), " ".join("%.3f" % v for v in live_wall), " ".join("%.3f" % v for v in cli)))
         # Cancellation: move during a long pass (4096 samples, steps up to 0.25 s).
         live.post("/api/settings?samples=4096")
         lat = []
