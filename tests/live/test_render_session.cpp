@@ -167,16 +167,16 @@ TEST(RenderSession, ACameraMoveRestartsTheViewFromItsFirstSample) {
 
 TEST(RenderSession, AChangeCancelsTheRunningPassWithinOneWave) {
   SessionConfig c = config(16);  // steps of 1, 3 and 12 samples
-  c.settings.width = c.base.width = 96;
-  c.settings.height = c.base.height = 72;
-  c.wave_paths = 256;    // 6912 pixels: 27 chunks per sample, each checked for the cancel
+  c.settings.width = c.base.width = 64;
+  c.settings.height = c.base.height = 48;
+  c.wave_paths = 256;    // 3072 pixels: 12 chunks per sample, each checked for the cancel
   c.frame_budget = 0.0;  // no frame is short enough to be let finish
   c.max_step_seconds = 1e9;
   RenderSession* self = nullptr;
   std::atomic<int> step_chunks{0};
   std::atomic<bool> moved{false};
   c.on_chunk = [&](uint64_t chunk) {
-    // In the third step (12 samples x 27 chunks), move the camera at its 5th chunk.
+    // In the third step (12 samples x 12 chunks), move the camera at its 5th chunk.
     if (chunk == 5 && step_chunks.fetch_add(1) == 2 && !moved.exchange(true))
       self->navigate({NavInput::Kind::kOrbit, 5.0, 0.0});
   };
@@ -193,10 +193,10 @@ TEST(RenderSession, AChangeCancelsTheRunningPassWithinOneWave) {
 TEST(RenderSession, ACameraThatKeepsMovingKeepsProducingFramesEvenWhenTheyAreSlow) {
   FrameLog log;
   SessionConfig c = config(4);
-  c.settings.width = c.base.width = 96;
-  c.settings.height = c.base.height = 72;
+  c.settings.width = c.base.width = 64;
+  c.settings.height = c.base.height = 48;
   c.settings.preview = 1;  // full resolution while moving
-  c.wave_paths = 256;      // 27 chunks per frame
+  c.wave_paths = 256;      // 12 chunks per frame
   c.frame_budget = 0.0;    // no frame is expected within the budget
   c.still_after = milliseconds(60000);
   log.attach(c);
