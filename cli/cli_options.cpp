@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <thread>
 #include <type_traits>
 
 #include <CLI/CLI.hpp>
@@ -36,7 +37,8 @@ struct RawValues {
   std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard, trace;
   bool no_packets = false;
   std::vector<std::string> resolution, adaptive, region;
-  bool hemisphere = false, normals = false, cs184 = false, list_isa = false;
+  bool hemisphere = false, normals = false, cs184 = false, list_isa = false, serve = false;
+  std::optional<std::string> serve_port;  ///< the PORT after --serve, if one was given
 };
 
 /// Converts the raw values that were given into `o`, keeping the first error.
@@ -136,11 +138,51 @@ void Converter::convert(const RawValues& raw) {
       o_.isa = app_.count("--isa") > 0 ? resolve_isa(raw.isa) : active_isa();
     } catch (const IsaError& e) { error = (app_.count("--isa") > 0 ? "--isa: " : "") + std::string(e.what()); }
   }
+  if (raw.serve) {
+    o_.serve_port = 8184;
+    if (error.empty() && raw.serve_port) {
+      int64_t port = 0;
+      if ((error = parse_integer("--serve", "port", *raw.serve_port, 0, 65535, port)).empty())
+        o_.serve_port = int(port);
+    }
+    if (app_.count("-s") == 0) s.samples_per_pixel = 1024;  // the live view accumulates until this many
+    if (app_.count("-t") == 0) s.threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  } else if (app_.count("--bind") > 0 && error.empty()) {
+    error = "--bind goes with --serve";
+  }
   if (raw.hemisphere) {
     if (error.empty() && app_.count("--direct") > 0 && s.direct != DirectLighting::kHemisphere)
       error = "-H and --direct " + raw.direct + " contradict each other";
     s.direct = DirectLighting::kHemisphere;
   }
+}
+
+/// --serve: the flags that describe one render to a file, which the live view does not make.
+std::string validate_live(const Options& o) {
+  const RenderSettings& s = o.settings;
+  if (o.engine != Engine::kWavefront || o.accel != AccelChoice::kBvh4)
+    return "--serve: the live view renders with the wavefront engine and the BVH4 (no --engine or --bvh)";
+  const char* alone = !o.merge.empty()                 ? "--merge"
+                      : !o.export_scene.empty()        ? "--export-scene"
+                      : o.shard_count > 0              ? "--shard"
+                      : !o.checkpoint_file.empty()     ? "--checkpoint"
+                      : !o.convergence_csv.empty()     ? "--convergence-csv"
+                      : !o.variance_file.empty()       ? "--variance"
+                      : s.region                       ? "-p"
+                      : o.stats                        ? "--stats"
+                      : o.memory                       ? "--memory"
+                      : o.trace != TraceChoice::kQueue ? "--trace"
+                      : !o.dump_queues.empty()         ? "--dump-queues"
+                      : o.count_tests                  ? "--count-tests"
+                                                       : nullptr;
+  if (alone) return std::string("--serve: ") + alone + " is for renders to a file, not the live view";
+  if (s.width < 16 || s.height < 16 || int64_t(s.width) * s.height > (int64_t(1) << 22))
+    return "--serve: -r " + std::to_string(s.width) + " " + std::to_string(s.height) +
+           ": the live view takes 16 to 4096 pixels a side and at most 4194304 pixels";
+  if (o.bind_address.empty() || o.bind_address.size() > 253 ||
+      o.bind_address.find_first_of(" \t\r\n/") != std::string::npos)
+    return "--bind: expected an address such as 127.0.0.1, ::1 or 0.0.0.0, got \"" + o.bind_address + "\"";
+  return {};
 }
 
 /// Returns an error message, or empty if the converted options are consistent.
@@ -174,6 +216,7 @@ std::string validate(const Options& o) {
   if (o.shard_count > 0 && !o.convergence_csv.empty()) return "--shard and --convergence-csv do not go together";
   if (o.shard_count > 0 && !o.checkpoint_file.empty())
     return "--shard renders its share in one go; rerun a shard that failed instead of --checkpoint";
+  if (o.serve_port >= 0) return validate_live(o);
   return {};
 }
 
@@ -337,6 +380,27 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   app.add_flag("--list-isa", raw.list_isa,
                "List the instruction sets compiled in, whether this CPU runs them, and exit");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");
+  app.add_flag("--serve", raw.serve,
+               "--serve [PORT]: serve the live view of the scene at http://127.0.0.1:PORT/ until Ctrl-C (PORT 8184; 0 "
+               "picks a free one); -s defaults to 1024 and -t to every core");
+  app.add_option("--bind", o.bind_address, "Address the live view listens on; 127.0.0.1")->type_name("ADDR");
+}
+
+/// Takes the optional PORT of --serve (and --serve=PORT) out of the command
+/// line, which CLI11 then parses with --serve as a plain flag.
+std::vector<std::string> take_serve_port(int argc, char** argv, RawValues& raw) {
+  std::vector<std::string> args(argv, argv + argc);
+  for (size_t i = 1; i < args.size(); ++i) {
+    if (args[i].rfind("--serve=", 0) == 0) {
+      raw.serve_port = args[i].substr(8);
+      args[i] = "--serve";
+    } else if (args[i] == "--serve" && i + 1 < args.size() && !args[i + 1].empty() &&
+               args[i + 1].find_first_not_of("0123456789") == std::string::npos) {
+      raw.serve_port = args[i + 1];
+      args.erase(args.begin() + long(i) + 1);
+    }
+  }
+  return args;
 }
 
 /// --list-isa: one line per compiled level.
@@ -355,6 +419,11 @@ ParseResult parse_command_line(int argc, char** argv) {
   RawValues raw;
   CLI::App app{"Path tracer for CS184 COLLADA scenes. Renders SCENE (default: the built-in Cornell box)."};
   add_options(app, o, raw);
+  std::vector<std::string> args = take_serve_port(argc, argv, raw);
+  std::vector<char*> arg_ptrs;
+  for (std::string& a : args) arg_ptrs.push_back(a.data());
+  argc = int(arg_ptrs.size());
+  argv = arg_ptrs.data();
 
   if (std::string err = check_value_counts(app, argc, argv); !err.empty()) {
     std::cerr << "error: " << err << "\n";

@@ -22,12 +22,16 @@
 #include "io/exr_image.h"
 #include "io/image_output.h"
 #include "io/scene_export.h"
+#if PT_WITH_LIVE
+#include "live_command.h"
+#endif
 #include "io/tile_set.h"
 #include "io/scene_error.h"
 #include "convergence_run.h"
 #include "memory_report.h"
 #include "distributed/mpi_job.h"
 #include "progress_bar.h"
+#include "render_camera.h"
 #include "render_engines.h"
 #include "render_outputs.h"
 #include "shard_merge.h"
@@ -101,24 +105,6 @@ void print_memory(const cli::Options& o, const Scene& scene, const RenderOutput&
   std::printf("%s", cli::format_memory_report(report).c_str());
 }
 
-/// The render's camera: the scene's (or the -c file's), with -b / -d's thin
-/// lens. -b without -d (or a file's focal distance) focuses on the plane
-/// through the scene's centre.
-Camera render_camera(const cli::Options& o, const Scene& scene) {
-  const RenderSettings& rs = o.settings;
-  Camera c = o.camera_file.empty() ? resolve_camera(scene, rs.width, rs.height, o.cs184_framing)
-                                   : resolve_camera(read_camera_settings_file(o.camera_file), rs.width, rs.height);
-  if (o.lens_radius) {
-    if (!c.thin_lens() && !o.focal_distance) {
-      float d = dot(scene.bounds.center() - c.position, -c.to_camera);
-      c.focal_distance = std::isfinite(d) && d > 0.0f ? d : 1.0f;  // empty scene or centre behind: 1 unit
-    }
-    c.lens_radius = *o.lens_radius;
-  }
-  if (o.focal_distance) c.focal_distance = *o.focal_distance;
-  return c;
-}
-
 /// Everything a render needs before it starts; loading, checks and the
 /// BVH build throw InputError (or bad_alloc) and are done by every rank.
 struct Prepared {
@@ -172,7 +158,7 @@ void prepare(const cli::Options& o, const dist::MpiJob& job, Prepared& p) {
       cli::check_outputs_writable(o, p.output);
     }
   }
-  p.camera = render_camera(o, scene);
+  p.camera = cli::render_camera(o, scene);
   if (tiled) p.tiles = TileSet{cli::tile_set_header(o, scene, p.camera), {}, {}};
   if (!o.checkpoint_file.empty() && job.rank() == 0 && o.convergence_csv.empty()) {
     p.checkpoint.path = o.checkpoint_file;
@@ -299,7 +285,7 @@ int export_scene(const cli::Options& o) {
     RgbImage map = read_exr(o.environment_map);
     set_environment(loaded.scene, std::make_shared<EnvironmentMap>(map.width, map.height, std::move(map.texels)));
   }
-  const Camera camera = render_camera(o, loaded.scene);
+  const Camera camera = cli::render_camera(o, loaded.scene);
   write_file_atomically(o.export_scene, scene_to_json(loaded.scene, camera, o.settings.width, o.settings.height));
   if (!o.quiet) std::printf("Wrote %s\n", o.export_scene.c_str());
   return 0;
@@ -308,6 +294,15 @@ int export_scene(const cli::Options& o) {
 int run(const cli::Options& o, const dist::MpiJob& job) {
   if (!o.merge.empty()) return job.rank() == 0 ? cli::run_merge(o) : 0;
   if (!o.export_scene.empty()) return job.rank() == 0 ? export_scene(o) : 0;
+  if (o.serve_port >= 0) {
+#if PT_WITH_LIVE
+    if (job.size() > 1) throw InputError("--serve runs in one process, not under mpirun");
+    install_stop_handlers();
+    return cli::run_live_view(o, g_cancel);
+#else
+    throw InputError("--serve: this build has no live view (install libcpp-httplib-dev and build again)");
+#endif
+  }
   Prepared p;
   if (job.size() == 1) {
     prepare(o, job, p);

@@ -1,6 +1,7 @@
 // Camera placement, field-of-view widening and camera settings files.
 #include "camera_setup.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -108,37 +109,69 @@ CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path) 
   read("screenDist", f.screen_dist);
   read("focalDistance", f.focal_distance);
   read("lensRadius", f.lens_radius);
+  if (std::string problem = camera_settings_problem(f); !problem.empty())
+    throw InputError(path.string() + ": camera file " + problem);
+  return f;
+}
+
+std::string camera_settings_problem(const CameraSettingsFile& f) {
   if (!(f.hfov_deg > 0 && f.hfov_deg < 180 && f.vfov_deg > 0 && f.vfov_deg < 180))
-    throw InputError(path.string() + ": camera file fields of view must be between 0 and 180 degrees");
-  if (!(f.near_clip >= 0 && f.far_clip > f.near_clip))
-    throw InputError(path.string() + ": camera file needs 0 <= nClip < fClip");
+    return "fields of view must be between 0 and 180 degrees";
+  if (!(f.near_clip >= 0 && f.far_clip > f.near_clip)) return "needs 0 <= nClip < fClip";
   if (!(f.lens_radius >= 0) || (f.lens_radius > 0 && !(f.focal_distance > 0)))
-    throw InputError(path.string() + ": camera file needs lensRadius >= 0, and focalDistance > 0 when lensRadius > 0");
+    return "needs lensRadius >= 0, and focalDistance > 0 when lensRadius > 0";
   float3 cols[3] = {{f.c2w[0][0], f.c2w[1][0], f.c2w[2][0]},
                     {f.c2w[0][1], f.c2w[1][1], f.c2w[2][1]},
                     {f.c2w[0][2], f.c2w[1][2], f.c2w[2][2]}};
   for (const float3& col : cols)
-    if (std::fabs(length(col) - 1.0f) > 1e-3f)
-      throw InputError(path.string() + ": camera file c2w columns must be unit vectors");
+    if (!(std::fabs(length(col) - 1.0f) <= 1e-3f)) return "c2w columns must be unit vectors";
+  return {};
+}
+
+CameraSettingsFile camera_settings_of(const Camera& c, int width, int height) {
+  CameraSettingsFile f;
+  f.hfov_deg = static_cast<float>(2 * std::atan(c.tan_half_hfov) / kRadians);
+  f.vfov_deg = static_cast<float>(2 * std::atan(c.tan_half_vfov) / kRadians);
+  f.aspect = static_cast<float>(double(width) / height);
+  f.near_clip = c.near_clip;
+  f.far_clip = c.far_clip;
+  f.position = c.position;
+  f.target = c.position - c.to_camera;
+  f.phi = std::acos(std::clamp(c.to_camera.y, -1.0f, 1.0f));
+  f.theta = std::atan2(c.to_camera.x, c.to_camera.z);
+  f.r = 1;
+  f.min_r = 0;
+  f.max_r = 1e30f;
+  float3 cols[3] = {c.screen_x, c.screen_y, c.to_camera};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) f.c2w[i][j] = cols[j][i];
+  f.screen_w = static_cast<float>(width);
+  f.screen_h = static_cast<float>(height);
+  f.screen_dist = static_cast<float>(height / (2.0 * c.tan_half_vfov));
+  f.focal_distance = c.thin_lens() ? c.focal_distance : 0.0f;
+  f.lens_radius = c.lens_radius;
   return f;
 }
 
-void write_camera_settings_file(const std::filesystem::path& path, const Camera& c, int width, int height) {
+std::string format_camera_settings(const CameraSettingsFile& f) {
   std::ostringstream o;
   o.precision(9);
-  double hfov = 2 * std::atan(c.tan_half_hfov) / kRadians, vfov = 2 * std::atan(c.tan_half_vfov) / kRadians;
-  float3 target = c.position - c.to_camera;
-  double screen_dist = height / (2.0 * c.tan_half_vfov);
-  o << hfov << " " << vfov << " " << double(width) / height << " " << c.near_clip << " " << c.far_clip << "\n";
-  o << c.position.x << " " << c.position.y << " " << c.position.z << " " << target.x << " " << target.y << " "
-    << target.z << "\n";
-  o << std::acos(std::clamp(c.to_camera.y, -1.0f, 1.0f)) << " " << std::atan2(c.to_camera.x, c.to_camera.z)
-    << " 1 0 1e30\n";
-  float3 cols[3] = {c.screen_x, c.screen_y, c.to_camera};
-  for (int i = 0; i < 3; ++i) o << cols[0][i] << " " << cols[1][i] << " " << cols[2][i] << "\n";
-  o << width << " " << height << " " << screen_dist << "\n"
-    << (c.thin_lens() ? c.focal_distance : 0.0f) << " " << c.lens_radius << "\n";
-  write_file_atomically(path, o.str());
+  o << f.hfov_deg << " " << f.vfov_deg << " " << f.aspect << " " << f.near_clip << " " << f.far_clip << "\n";
+  o << f.position.x << " " << f.position.y << " " << f.position.z << " " << f.target.x << " " << f.target.y << " "
+    << f.target.z << "\n";
+  o << f.phi << " " << f.theta << " " << f.r << " " << f.min_r << " " << f.max_r << "\n";
+  for (int i = 0; i < 3; ++i) o << f.c2w[i][0] << " " << f.c2w[i][1] << " " << f.c2w[i][2] << "\n";
+  o << f.screen_w << " " << f.screen_h << " " << f.screen_dist << "\n"
+    << f.focal_distance << " " << f.lens_radius << "\n";
+  return o.str();
+}
+
+void write_camera_settings_file(const std::filesystem::path& path, const Camera& c, int width, int height) {
+  write_camera_settings_file(path, camera_settings_of(c, width, height));
+}
+
+void write_camera_settings_file(const std::filesystem::path& path, const CameraSettingsFile& f) {
+  write_file_atomically(path, format_camera_settings(f));
 }
 
 }  // namespace pt

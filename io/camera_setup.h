@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 
 #include "kernels/scene/camera.h"
 #include "kernels/scene/scene.h"
@@ -25,8 +26,21 @@ struct CameraSettingsFile {
 /// Throws InputError naming the file and the field that does not parse.
 CameraSettingsFile read_camera_settings_file(const std::filesystem::path& path);
 
+/// What makes `f` unusable as a camera (fields of view outside (0, 180),
+/// clip range, lens, c2w columns not unit), or "" when it is usable: the
+/// checks read_camera_settings_file applies after parsing.
+std::string camera_settings_problem(const CameraSettingsFile& f);
+
+/// The file's fields of the camera of a render at width x height.
+CameraSettingsFile camera_settings_of(const Camera& c, int width, int height);
+
+/// The file's text: every field with 9 significant digits, so that each
+/// float reads back bit for bit (and resolve_camera gives the same camera).
+std::string format_camera_settings(const CameraSettingsFile& f);
+
 /// Writes the camera of a render so that -c reproduces it.
 void write_camera_settings_file(const std::filesystem::path& path, const Camera& c, int width, int height);
+void write_camera_settings_file(const std::filesystem::path& path, const CameraSettingsFile& f);
 
 /// `cs184_framing`: keep the course renderer's pixel scale of an 800x600 view
 /// (the output is then the central crop of that view).

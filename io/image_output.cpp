@@ -71,14 +71,16 @@ void write_image(const std::filesystem::path& path, const Film& film, PngQuantiz
   write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
 }
 
+void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]) {
+  float denom = static_cast<float>(std::max<uint32_t>(max_samples, 1));
+  float r = std::clamp(samples / denom, 0.0f, 1.0f);
+  float3 c = r < 0.5f ? float3{0.0f, 2.0f * r, 1.0f - 2.0f * r} : float3{2.0f * r - 1.0f, 2.0f - 2.0f * r, 0.0f};
+  for (int k = 0; k < 3; ++k) rgb[k] = static_cast<uint8_t>(std::lround(c[k] * 255.0f));
+}
+
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film) {
   std::vector<uint8_t> rgb(film.samples.size() * 3);
-  float denom = static_cast<float>(std::max<uint32_t>(film.max_samples, 1));
-  for (size_t i = 0; i < film.samples.size(); ++i) {
-    float r = std::clamp(film.samples[i] / denom, 0.0f, 1.0f);
-    float3 c = r < 0.5f ? float3{0.0f, 2.0f * r, 1.0f - 2.0f * r} : float3{2.0f * r - 1.0f, 2.0f - 2.0f * r, 0.0f};
-    for (int k = 0; k < 3; ++k) rgb[i * 3 + k] = static_cast<uint8_t>(std::lround(c[k] * 255.0f));
-  }
+  for (size_t i = 0; i < film.samples.size(); ++i) sample_rate_rgb8(film.samples[i], film.max_samples, &rgb[i * 3]);
   write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
 }
 

@@ -29,6 +29,10 @@ enum class PngQuantization { kNearest, kTruncate };
 /// 8-bit value of one linear channel in the course renderer's encoding.
 uint8_t encode_channel(float linear, PngQuantization q = PngQuantization::kNearest);
 
+/// Colour of the sample-rate image for `samples` of at most `max_samples`:
+/// blue (0) to green (0.5) to red (1).
+void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]);
+
 void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q = PngQuantization::kNearest);
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
 /// Each pixel's variance of its mean illuminance as a grey PFM (for references).

@@ -3,6 +3,9 @@
 # With --aarch64 (what run_tests.sh asks for on x86-64), also the aarch64
 # cross compiler, Debian's arm64 multiarch packages of the linked libraries,
 # and qemu-user (which also runs x86-64 binaries on emulated CPUs).
+# The browser test's packages (Chromium, its WebDriver, Selenium) are
+# installed last and may fail alone: where Chromium cannot be installed, that
+# test skips with a message and everything else is installed.
 # Run as root or with sudo available. Safe to re-run.
 set -euo pipefail
 packages=(
@@ -14,7 +17,10 @@ packages=(
   clang libclang-rt-14-dev      # libFuzzer and the sanitizer build
   clang-format                  # the code style check (scripts/check_format.sh)
   python3-matplotlib            # convergence charts
+  libcpp-httplib-dev            # the live view's HTTP server (pathtracer --serve)
+  python3-pil                   # the live view's browser test reads PNGs
 )
+browser=(chromium chromium-driver python3-selenium)  # the live view's browser test (headless Chromium)
 sudo_cmd=""
 [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
 if [ "${1:-}" = --aarch64 ]; then
@@ -24,14 +30,25 @@ if [ "${1:-}" = --aarch64 ]; then
     $sudo_cmd dpkg --add-architecture arm64
   fi
 fi
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install_deps: all ${#packages[@]} packages present"
+missing() {  # the packages among "$@" not installed
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || echo "$p"
+  done
+}
+mapfile -t needed < <(missing "${packages[@]}")
+mapfile -t needed_browser < <(missing "${browser[@]}")
+if [ ${#needed[@]} -eq 0 ] && [ ${#needed_browser[@]} -eq 0 ]; then
+  echo "install_deps: all $(( ${#packages[@]} + ${#browser[@]} )) packages present"
   exit 0
 fi
-echo "install_deps: installing ${missing[*]}"
 $sudo_cmd apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#needed[@]} -gt 0 ]; then
+  echo "install_deps: installing ${needed[*]}"
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${needed[@]}"
+fi
+if [ ${#needed_browser[@]} -gt 0 ]; then
+  echo "install_deps: installing ${needed_browser[*]}"
+  if ! DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${needed_browser[@]}"; then
+    echo "install_deps: ${needed_browser[*]} could not be installed here; the live view's browser test will skip"
+  fi
+fi

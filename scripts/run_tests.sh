@@ -5,11 +5,13 @@
 #     (the standard recipe; a build/ made earlier keeps its generator): every
 #     instruction-set level in one binary, with Open MPI, so the mpirun tests
 #     run; ctest once per level, each level forced through PT_ISA; a level this
-#     CPU cannot run is reported as skipped.
+#     CPU cannot run is reported as skipped. The tests labelled `browser` (the
+#     live view in headless Chromium) run once after the levels, not per level.
 #  2. AddressSanitizer + UndefinedBehaviorSanitizer build with Ninja
 #     (build-asan/, -O1, -march=native: the CPU's widest level and the native
 #     build's path; without MPI: the build everyone without Open MPI gets):
-#     every test but those labelled `slow` (over 5 s there; they ran in step 1).
+#     every test but those labelled `slow` (over 5 s there; they ran in step 1)
+#     or `browser`.
 #  3. On x86-64: an aarch64 cross build with Ninja (build-aarch64/), whose
 #     kernel, BVH, engine-agreement, furnace and loader tests run under
 #     qemu-aarch64.
@@ -78,9 +80,12 @@ while read -r level lanes _ support _; do
     continue
   fi
   echo "run_tests: Release tests at level $level ($lanes lanes)"
-  PT_ISA=$level run_ctest build "build/ctest_$level.log"
+  PT_ISA=$level run_ctest build "build/ctest_$level.log" -LE browser
   summary+=("release $level ($lanes lanes): $(ctest_counts "build/ctest_$level.log")")
 done < <(./build/cli/pathtracer --list-isa)
+echo "run_tests: browser tests (the widest level)"
+run_ctest build build/ctest_browser.log -L browser -V  # -V: its figures (first frame) and any skip reason in the log
+summary+=("browser (headless Chromium): $(ctest_counts build/ctest_browser.log)")
 
 # ------------------------------------------------------------- 2. Sanitizers
 if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
@@ -91,8 +96,8 @@ if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
   LSAN_OPTIONS=suppressions="$PWD/tests/support/lsan_suppressions.txt":print_suppressions=0 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    run_ctest build-asan build-asan/ctest.log -LE slow
-  summary+=("asan+ubsan native $level: $(ctest_counts build-asan/ctest.log) (the tests labelled slow left out)")
+    run_ctest build-asan build-asan/ctest.log -LE 'slow|browser'
+  summary+=("asan+ubsan native $level: $(ctest_counts build-asan/ctest.log) (the tests labelled slow or browser left out)")
   echo "run_tests: sanitizer build and tests took $(( $(date +%s) - start )) s"
 fi
 

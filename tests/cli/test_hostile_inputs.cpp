@@ -1,4 +1,5 @@
-// Hostile scene files through the pathtracer binary, table-driven. A bad file
+// Hostile scene files through the pathtracer binary, table-driven (hostile
+// requests to its live view: test_hostile_requests.cpp). A bad file
 // must exit 1 with exactly one stderr line "error: FILE:LINE: <element>: ..."
 // and create no output (the scratch directory holds only the scene). A file
 // that is odd but usable (unknown light or material type, empty scene) must

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <thread>
 
 namespace pt::test {
 namespace {
@@ -104,6 +105,92 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
   }
   r.peak_rss_bytes = static_cast<size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+BackgroundProcess::BackgroundProcess(const std::string& program, const std::vector<std::string>& args,
+                                     const std::filesystem::path& cwd) {
+  int out_pipe[2], err_pipe[2];
+  if (pipe2(out_pipe, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) return;
+  pid_t pid = fork();
+  if (pid == 0) exec_child(program, args, cwd, out_pipe[1], err_pipe[1], 0);
+  close(out_pipe[1]);
+  close(err_pipe[1]);
+  out_fd_ = out_pipe[0];
+  err_fd_ = err_pipe[0];
+  pid_ = pid;
+  reader_ = std::thread([this] {
+    pollfd fds[2] = {{out_fd_, POLLIN, 0}, {err_fd_, POLLIN, 0}};
+    std::string* sinks[2] = {&out_, &err_};
+    int open = 2;
+    char buf[4096];
+    while (open > 0) {
+      if (poll(fds, 2, 100) < 0) continue;
+      for (int i = 0; i < 2; ++i) {
+        if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+        ssize_t n = read(fds[i].fd, buf, sizeof buf);
+        std::lock_guard lock(mutex_);
+        if (n > 0) {
+          sinks[i]->append(buf, static_cast<size_t>(n));
+        } else {
+          fds[i].fd = -1;
+          --open;
+        }
+      }
+    }
+    std::lock_guard lock(mutex_);
+    ended_ = true;
+  });
+}
+
+BackgroundProcess::~BackgroundProcess() {
+  if (pid_ > 0) stop(SIGKILL, std::chrono::milliseconds(10000));
+}
+
+std::string BackgroundProcess::wait_for_line(const std::string& text, std::chrono::milliseconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  for (;;) {
+    {
+      std::lock_guard lock(mutex_);
+      for (size_t start = 0, end; (end = out_.find('\n', start)) != std::string::npos; start = end + 1)
+        if (out_.substr(start, end - start).find(text) != std::string::npos) return out_.substr(start, end - start);
+      if (ended_ || std::chrono::steady_clock::now() > deadline) return "";
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+std::string BackgroundProcess::out() {
+  std::lock_guard lock(mutex_);
+  return out_;
+}
+
+std::string BackgroundProcess::err() {
+  std::lock_guard lock(mutex_);
+  return err_;
+}
+
+ProcessResult BackgroundProcess::stop(int signal, std::chrono::milliseconds limit) {
+  ProcessResult r;
+  if (pid_ <= 0) return r;
+  kill(pid_, signal);
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  pid_t done = 0;
+  while ((done = waitpid(pid_, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (done == 0) {
+    r.timed_out = true;
+    kill(pid_, SIGKILL);
+    waitpid(pid_, &status, 0);
+  }
+  pid_ = -1;
+  reader_.join();
+  close(out_fd_);
+  close(err_fd_);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = out();
+  r.err = err();
   return r;
 }
 

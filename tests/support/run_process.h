@@ -1,11 +1,15 @@
 // Running the pathtracer binary from tests: arguments, working directory,
 // captured stdout and stderr, a time limit, and a scratch directory per test
-// so that "no output file was created" can be checked by listing it.
+// so that "no output file was created" can be checked by listing it; or in
+// the background (a server), its output collected while the test talks to it.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <filesystem>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace pt::test {
@@ -25,6 +29,32 @@ struct ProcessResult {
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
                           const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes = 0,
                           double interrupt_after_seconds = 0);
+
+/// A program started in the background (standard input /dev/null), whose
+/// stdout and stderr a thread collects; killed on destruction if still running.
+class BackgroundProcess {
+ public:
+  BackgroundProcess(const std::string& program, const std::vector<std::string>& args, const std::filesystem::path& cwd);
+  ~BackgroundProcess();
+  BackgroundProcess(const BackgroundProcess&) = delete;
+  BackgroundProcess& operator=(const BackgroundProcess&) = delete;
+
+  /// The first stdout line containing `text`, waiting up to `limit`; "" if none came.
+  std::string wait_for_line(const std::string& text, std::chrono::milliseconds limit);
+  /// Everything written to stdout / stderr so far.
+  std::string out();
+  std::string err();
+  /// Sends `signal`, waits up to `limit` for the exit (then kills), and returns all it wrote.
+  ProcessResult stop(int signal, std::chrono::milliseconds limit);
+
+ private:
+  int pid_ = -1;
+  int out_fd_ = -1, err_fd_ = -1;
+  std::mutex mutex_;
+  std::string out_, err_;
+  bool ended_ = false;
+  std::thread reader_;
+};
 
 /// The lines of `text` (the last one without its '\n'); "" has none.
 std::vector<std::string> lines_of(const std::string& text);

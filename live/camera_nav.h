@@ -1,0 +1,53 @@
+// Camera navigation of the live view, the course renderer's way: the camera
+// orbits a target on a sphere (phi measured from +Y, theta about +Y, radius
+// r), pans by moving camera and target in the screen plane, and zooms by
+// scaling r. The state is the camera file's fields (io/camera_setup.h), so
+// the camera on screen and the one a saved file gives -c are one camera:
+// resolve_camera(view, width, height) renders both.
+#pragma once
+
+#include "io/camera_setup.h"
+#include "kernels/math/bbox.h"
+#include "kernels/scene/camera.h"
+
+namespace pt::live {
+
+/// The live view's camera: the fields `pathtracer -c` reads.
+using ViewCamera = CameraSettingsFile;
+
+/// 8 bytes. How near and how far the camera may zoom to its target.
+struct NavLimits {
+  float min_r = 1e-3f, max_r = 1e3f;
+};
+
+/// 1e-3 and 100 times the diagonal of the scene's bounds (1 for an empty scene).
+NavLimits nav_limits(const BBox& scene_bounds);
+
+/// The view of a resolved camera at width x height, orbiting the point of its
+/// view axis nearest to `centre` (at least min_r ahead); its basis is kept
+/// until the first orbit rebuilds it.
+ViewCamera view_from_camera(const Camera& c, int width, int height, float3 centre, const NavLimits& limits);
+
+/// Turns the camera about its target by dragged pixels, as the course's
+/// window does: phi -= dy * pi / height, theta -= dx * pi / width; phi stays
+/// inside (0, pi) and the basis is rebuilt with +Y up.
+ViewCamera orbit(const ViewCamera& v, double dx, double dy, int width, int height);
+
+/// Moves camera and target in the screen plane so that a point at the
+/// target's depth follows the mouse: `tan_half_vfov` is the resolved camera's
+/// and `height` the view's, in pixels (dy grows downwards).
+ViewCamera pan(const ViewCamera& v, double dx, double dy, float tan_half_vfov, int height);
+
+/// Scales the distance to the target by 1.1^steps within the limits.
+ViewCamera zoom(const ViewCamera& v, double steps, const NavLimits& limits);
+
+/// The camera at `position` looking at `target` with +Y up (the course's
+/// basis), fields of view and lens from `v`. `position` must differ from `target`.
+ViewCamera look_at(const ViewCamera& v, float3 position, float3 target, const NavLimits& limits);
+
+/// Where world point `p` lands in a width x height view of `c`, in pixels
+/// from the top-left corner (x right, y down); false when it lies behind the
+/// camera's plane. The overlays' projection (the page computes the same).
+bool project_to_pixel(const Camera& c, int width, int height, float3 p, float& px, float& py);
+
+}  // namespace pt::live

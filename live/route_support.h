@@ -1,0 +1,44 @@
+// What the route files share: the context every handler sees, JSON and
+// error replies (an error is a status, a one-line X-PT-Error header the log
+// repeats, and {"error": ...}), and the wrapper that turns a bad parameter
+// into 400 and a failed write into 500.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "bvh/scene_bvh4.h"
+#include "render_session.h"
+#include "routes.h"
+
+namespace pt::live {
+
+struct RouteContext {
+  RenderSession& session;
+  const SceneBvh4& bvh;
+  RouteConfig config;
+};
+
+/// Replies with `body` as JSON (200 unless `status` says otherwise).
+void reply_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
+/// Replies with an error: status, X-PT-Error and {"error": message}.
+void reply_error(httplib::Response& res, int status, const std::string& message);
+
+using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
+/// `handler` with ParamError answered 400 and io's InputError (a file that
+/// cannot be written) 500, each with its message.
+Handler guarded(Handler handler);
+
+/// The camera file's fields as JSON (the page shows them; the tests compare them).
+nlohmann::json camera_json(const ViewCamera& c);
+/// The view's settings as JSON, by the names the settings route takes.
+nlohmann::json settings_json(const ViewSettings& s);
+
+void add_view_routes(httplib::Server& server, RouteContext& context);
+void add_file_routes(httplib::Server& server, RouteContext& context);
+void add_bvh_routes(httplib::Server& server, RouteContext& context);
+
+}  // namespace pt::live
