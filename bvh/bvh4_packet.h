@@ -136,18 +136,18 @@ template <bool kUniform>
 inline void child_slabs(const Bvh4Node& node, int c, const RayPacket& p, vfloatK& tnear, vfloatK& tfar) {
   if constexpr (kUniform) {
     auto plane = [&](uint32_t row) { return vfloatK(node.bounds[row][c]); };
-    tnear = xsimd::max(xsimd::max(xsimd::fms(plane(p.near[0]), p.rdir[0], p.org_rdir[0]),
-                                  xsimd::fms(plane(p.near[1]), p.rdir[1], p.org_rdir[1])),
-                       xsimd::max(xsimd::fms(plane(p.near[2]), p.rdir[2], p.org_rdir[2]), p.tmin));
-    tfar = xsimd::min(xsimd::min(xsimd::fms(plane(p.far[0]), p.rdir[0], p.org_rdir[0]),
-                                 xsimd::fms(plane(p.far[1]), p.rdir[1], p.org_rdir[1])),
-                      xsimd::min(xsimd::fms(plane(p.far[2]), p.rdir[2], p.org_rdir[2]), p.tmax));
+    tnear = xsimd::max(xsimd::max(fused_mul_sub_k(plane(p.near[0]), p.rdir[0], p.org_rdir[0]),
+                                  fused_mul_sub_k(plane(p.near[1]), p.rdir[1], p.org_rdir[1])),
+                       xsimd::max(fused_mul_sub_k(plane(p.near[2]), p.rdir[2], p.org_rdir[2]), p.tmin));
+    tfar = xsimd::min(xsimd::min(fused_mul_sub_k(plane(p.far[0]), p.rdir[0], p.org_rdir[0]),
+                                 fused_mul_sub_k(plane(p.far[1]), p.rdir[1], p.org_rdir[1])),
+                      xsimd::min(fused_mul_sub_k(plane(p.far[2]), p.rdir[2], p.org_rdir[2]), p.tmax));
   } else {
     tnear = p.tmin;
     tfar = p.tmax;
     for (int a = 0; a < 3; ++a) {
-      vfloatK t0 = xsimd::fms(vfloatK(node.bounds[2 * a][c]), p.rdir[a], p.org_rdir[a]);
-      vfloatK t1 = xsimd::fms(vfloatK(node.bounds[2 * a + 1][c]), p.rdir[a], p.org_rdir[a]);
+      vfloatK t0 = fused_mul_sub_k(vfloatK(node.bounds[2 * a][c]), p.rdir[a], p.org_rdir[a]);
+      vfloatK t1 = fused_mul_sub_k(vfloatK(node.bounds[2 * a + 1][c]), p.rdir[a], p.org_rdir[a]);
       tnear = xsimd::max(tnear, xsimd::min(t0, t1));
       tfar = xsimd::min(tfar, xsimd::max(t0, t1));
     }

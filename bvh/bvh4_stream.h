@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cstdint>
 
 #include "bvh4_interleaved.h"
@@ -45,7 +46,8 @@ constexpr uint32_t list_room(size_t n) {
 }
 
 /// A node or leaf and the list of the rays that enter it, at words
-/// [offset, offset + kListFields * room) of the arena. The lists of a node's
+/// [offset, offset + fields * room) of the arena (kListFields fields, or one
+/// fewer when the lists carry no tmin). The lists of a node's
 /// children are allocated together and end at block_end, where the arena's
 /// free space starts again once this entry is taken.
 struct ListEntry {
@@ -77,7 +79,7 @@ PT_ALWAYS_INLINE vintK load_ids(const float* p, uint32_t valid) {
   return valid == lanes_below(kLanes) ? id : xsimd::select(as_int_mask(lanes_of_mask(valid)), id, vintK(0));
 }
 
-/// Whether some ray of the queue has tmin != 0 (so lists carry tmin).
+/// Whether some ray of the part has tmin != 0 (so lists carry tmin).
 inline bool has_tmin(const RayArrays& rays) {
   if (!rays.tmin) return false;
   for (size_t i = 0; i < rays.size; ++i)
@@ -85,7 +87,7 @@ inline bool has_tmin(const RayArrays& rays) {
   return false;
 }
 
-/// Lists the traceable rays of the queue, in queue order, with their slab
+/// Lists the traceable rays of the part, in queue order, with their slab
 /// constants (computed as NodeRay computes them) and, with kTmin, their tmin;
 /// returns the root's entry.
 template <bool kTmin>
@@ -161,6 +163,7 @@ template <bool kOrdered, bool kTmin, class C>
 inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax, ListEntry*& sp,
                        C& counters) {
   constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
+  assert(e.count <= kMaxStreamRays);  // `masks` holds one part's chunks
   const Bvh4Node& node = bvh.node(e.ref);
   counters.nodes_tested(e.count);
   uint32_t child_ok = 0;  // non-empty slots
@@ -215,6 +218,7 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
       const uint32_t i = j * kLanes;
       for (uint32_t f = 0; f < kFields; ++f) store_compressed(out[f] + written, m, vfloatK::load_unaligned(in[f] + i));
       written += std::popcount(m);
+      assert(written + kLanes <= room);  // the next K-wide store stays in this list's room
     }
     hit[n++] = {node.child[k], top, count[k], room, 0};
     top += kFields * room;
@@ -479,8 +483,10 @@ inline void bvh4_intersect_stream(const Bvh4& bvh, const RayArrays& rays, const 
   }
 }
 
-/// blocked[i] = whether ray i of the queue is blocked (as bvh4_occluded),
-/// Moller-Trumbore leaves. blocked[i] set to 1 already counts as blocked.
+/// Sets blocked[i] = 1 for every ray i of the queue that is blocked (as
+/// bvh4_occluded), Moller-Trumbore leaves; writes nothing for the others, so
+/// the caller zeroes `blocked` first. blocked[i] set to 1 already counts as
+/// blocked (and the ray is not traced).
 template <class C>
 inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, QueueScratch& s,
                                  C& counters) {

@@ -20,7 +20,9 @@
 
 namespace pt {
 
-/// Entries a traversal stack needs: at most three pushes per level.
+/// Entries a traversal stack needs: at most three pushes per level (a
+/// single ray pushes the children it does not visit first; the queue tracer
+/// pushes up to four and takes one), and the root's entry.
 inline constexpr int kBvh4StackSize = 3 * kBvh2MaxDepth + 4;
 
 /// The block test and its per-ray constants for each leaf form.

@@ -134,7 +134,8 @@ inline bool in_coherent_runs(const RayArrays& rays) {
 
 /// Closest hits of a whole queue: hits as intersect() gives them, ray by ray.
 /// Traced as packets of K rays when the queue comes in coherent runs, as a
-/// stream otherwise (and ray by ray in the watertight form).
+/// stream otherwise, and ray by ray in the watertight form and, for counted
+/// queries, when the queue comes in coherent runs (packets count nothing).
 template <class C>
 inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
                             C& c) {

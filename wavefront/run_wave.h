@@ -17,8 +17,6 @@
 
 namespace pt::wf {
 
-/// Renders samples [first_sample, first_sample + samples) of `pixels`; the
-/// radiance of path i ends up in b.paths (path i <-> pixel i / samples).
 /// Hands a copy of `queue` to options.capture, if set.
 template <class Queue>
 void capture_queue(const WavefrontOptions& options, QueueKind kind, uint32_t depth, const Queue& queue) {
@@ -28,6 +26,8 @@ void capture_queue(const WavefrontOptions& options, QueueKind kind, uint32_t dep
   options.capture(kind, depth, rays);
 }
 
+/// Renders samples [first_sample, first_sample + samples) of `pixels`; the
+/// radiance of path i ends up in b.paths (path i <-> pixel i / samples).
 /// options.trace: how the queues are traced (trace_mode.h).
 template <class Tracer>
 void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint32_t> pixels, uint32_t first_sample,

@@ -29,7 +29,8 @@ inline constexpr const char* kStageNames[] = {
     "trace_shadow_rays (1st hit)", "trace_shadow_rays (later)",  "russian_roulette",           "accumulate"};
 
 /// The queues the tracer is handed, by kind (the tracer's time is part of the
-/// intersection and shadow stages' time).
+/// intersection and shadow stages' time): the queue tracer's time, or with
+/// --trace packets / single the time of those methods.
 enum class TracedQueue : int { kCamera, kBounce, kShadowFirstHit, kShadowLater, kHemisphere, kCount };
 inline constexpr const char* kTracedQueueNames[] = {"camera rays", "bounce rays", "shadow rays from first hits",
                                                     "later shadow rays", "hemisphere rays"};

@@ -6,7 +6,8 @@
 // every shadow ray. Every queue length around the lane width and the stream's
 // part size; coherent, incoherent and shuffled rays; rays with tmin > 0;
 // untraceable rays; spheres; the watertight form; a tree deep enough that
-// lists thin out and go on ray by ray; nothing written past a queue.
+// lists thin out and go on ray by ray; the interleaved walks against the
+// single-ray walks from the same node; nothing written past a queue.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -14,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bvh/bvh4_interleaved.h"
 #include "bvh/scene_bvh4.h"
 #include "support/bvh4_support.h"
 #include "support/test_support.h"
@@ -147,6 +149,69 @@ TEST(Bvh4Queue, CameraQueuesInPixelOrderMatchSingleRays) {
   EXPECT_LE(ties, 2u);
 }
 
+TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
+  // The walks the stream leaves to single rays, run eight in flight: from
+  // every child of the root, under a nearest hit already found, each walk
+  // ends where the single-ray traversal from the same node ends.
+  Scene sphere = tessellated_sphere(5, {0, 0, 0}, 1.0f);
+  SceneBvh4 scene_bvh(sphere);
+  const Bvh4& bvh = scene_bvh.bvh();
+  ASSERT_FALSE(bvh4_ref::is_leaf(bvh.root));
+  std::vector<Ray> rays = uniform_random_rays(sphere, 500, 20);
+  struct Walk {
+    uint32_t ray, start;
+    Hit hit;
+  };
+  std::vector<Walk> walks;
+  for (uint32_t i = 0; i < rays.size(); ++i)
+    for (uint32_t c : bvh.node(bvh.root).child) {
+      if (c == bvh4_ref::kEmptyRef) continue;
+      Hit first;  // a nearest hit found elsewhere: the ray's own, pushed out a little, or none
+      scene_bvh.intersect(rays[i], first);
+      walks.push_back(
+          {i, c, first.valid() && i % 2 ? Hit{first.t * 1.01f, 0, 0, 7} : Hit{rays[i].tmax, 0, 0, kInvalidId}});
+    }
+  NoCounters counters;
+  size_t next = 0, found = 0;
+  std::vector<std::pair<Hit, bool>> got(walks.size());
+  bvh4_intersect_interleaved<TriangleForm::kMollerTrumbore, 8>(
+      bvh,
+      [&](Ray& r, uint32_t& from, Hit& h, uint32_t& tag) {
+        if (next == walks.size()) return false;
+        r = rays[walks[next].ray], from = walks[next].start, h = walks[next].hit, tag = uint32_t(next);
+        ++next;
+        return true;
+      },
+      [&](uint32_t tag, const Hit& h, bool f) {
+        got[tag] = {h, f};
+      },
+      counters);
+  for (size_t w = 0; w < walks.size(); ++w) {
+    Hit alone = walks[w].hit;
+    const bool f =
+        bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, walks[w].start, rays[walks[w].ray], alone, counters);
+    EXPECT_EQ(got[w].second, f) << "walk " << w;
+    EXPECT_TRUE(same_bits(got[w].first, alone)) << "walk " << w;
+    found += f;
+  }
+  EXPECT_GT(found, walks.size() / 8);  // many walks find a nearer hit
+  next = 0;
+  std::vector<int> blocked(walks.size(), -1);
+  bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, 8>(
+      bvh,
+      [&](Ray& r, uint32_t& from, uint32_t& tag) {
+        if (next == walks.size()) return false;
+        r = rays[walks[next].ray], from = walks[next].start, tag = uint32_t(next);
+        ++next;
+        return true;
+      },
+      [&](uint32_t tag, bool b) { blocked[tag] = b; }, counters);
+  for (size_t w = 0; w < walks.size(); ++w)
+    EXPECT_EQ(blocked[w], int(bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, walks[w].start,
+                                                                                 rays[walks[w].ray], counters)))
+        << "walk " << w;
+}
+
 TEST(Bvh4Queue, ADeepTreeWhoseListsThinOutMatchesSingleRays) {
   // 81,920 triangles in a sphere: rays from inside part ways after a few
   // levels, so that lists fall below the stream's minimum and go on alone.
@@ -174,6 +239,37 @@ TEST(Bvh4Queue, EveryQueueLengthAroundTheLaneWidthAndThePartSize) {
   for (size_t n : lengths)
     expect_queue_matches_single_rays(bvh, std::span<const Ray>(rays).first(n), scratch,
                                      "queue of " + std::to_string(n));
+}
+
+TEST(Bvh4Queue, LongQueuesWithTminInEveryPartMatchSingleRays) {
+  // Three parts of the stream; tmin > 0 on rays of the later parts too, so
+  // that each part's offset into tmin counts.
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> rays = uniform_random_rays(s, 9001, 18);
+  std::mt19937 rng(19);
+  for (size_t i = 0; i < rays.size(); i += 3) rays[i].tmin = std::uniform_real_distribution<float>(0.0f, 1.5f)(rng);
+  expect_queue_matches_single_rays(bvh, rays, scratch, "9001 rays with tmin > 0");
+}
+
+TEST(Bvh4Queue, CameraPacketsWithATailTminAndUntraceableLanesMatchSingleRays) {
+  // A camera queue (traced as packets) whose length is no multiple of K, with
+  // a near clip (tmin > 0), untraceable rays among the coherent runs, and
+  // rays aimed exactly at the mesh's vertices (edges and corners meet there).
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> pixels = camera_rays(s, 16, 12), rays;
+  for (const Ray& p : pixels)
+    for (int k = 0; k < 16; ++k) rays.push_back({p.org, 0.05f, p.dir + float3{1e-4f * k, 0.0f, 0.0f}, p.tmax});
+  const float3 eye = pixels[0].org;
+  for (size_t v = 0; v < s.positions.size() && rays.size() < 64 * 16 + 16 * 7; ++v)
+    for (int k = 0; k < 4; ++k) rays.push_back({eye, 0.05f, s.positions[v] - eye, kInfinity});
+  rays.resize(rays.size() - 5);   // a partial last packet
+  rays[16 * 3 + 2].dir.x = NAN;   // inside a coherent run
+  rays[16 * 5 + 7].tmax = 0.01f;  // empty range: below the near clip
+  expect_queue_matches_single_rays(bvh, rays, scratch, "camera packets");
 }
 
 TEST(Bvh4Queue, RaysThatStartPastTheirOriginMatchSingleRays) {
