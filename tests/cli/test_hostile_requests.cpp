@@ -165,6 +165,8 @@ TEST(HostileRequests, ServeFlagsAreCheckedBeforeAnythingStarts) {
              "error: --bind: expected an address such as 127.0.0.1, ::1 or 0.0.0.0, got \"a b\""},
         Case{{"--serve", "0", "-r", "8192", "4096"},
              "error: --serve: -r 8192 4096: the live view takes 16 to 4096 pixels a side and at most 4194304 pixels"},
+        Case{{"--serve", "0", "-r", "8192", "16"},
+             "error: --serve: -r 8192 16: the live view takes 16 to 4096 pixels a side and at most 4194304 pixels"},
         Case{{"--serve", "0", "--checkpoint", "c.bin"},
              "error: --serve: --checkpoint is for renders to a file, not the live view"},
         Case{{"--serve", "0", "--engine", "reference"},
