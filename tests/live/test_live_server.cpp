@@ -66,7 +66,7 @@ class LiveServer : public ::testing::Test {
   void TearDown() override {
     session.stop();
     server.stop();
-    listener.join();
+    if (listener.joinable()) listener.join();
   }
 
   std::vector<std::string> log_lines() {
@@ -209,6 +209,84 @@ TEST_F(LiveServer, HostileRequestsGetA4xxAndOneLogLine) {
   for (const std::string& line : log_lines()) std::printf("    %s\n", line.c_str());
 }
 
+TEST_F(LiveServer, RangeHeadersAreRefusedBeforeHttplibReadsThem) {
+  // Each range of a multipart answer is a copy of the body: thousands of them would make a frame gigabytes.
+  std::string ranges = "bytes=0-";
+  while (ranges.size() < 7000) ranges += ",0-";
+  const std::string close = "Connection: close\r\n\r\n";
+  expect_refused("GET /api/frame?after=0 HTTP/1.1\r\nHost: " + host + "\r\nRange: " + ranges + "\r\n" + close, 416,
+                 "Range header is not accepted");
+  expect_refused("GET / HTTP/1.1\r\nHost: " + host + "\r\nrAnGe: bytes=0-1\r\n" + close, 416, "Range");
+  expect_refused("GET /app.js HTTP/1.1\r\nRange: bytes=0-,0-\r\nHost: " + host + "\r\n" + close, 416, "Range");
+  // A body that happens to hold the word is a body; a header merely starting with it is another header.
+  httplib::Client c("127.0.0.1", port);
+  auto posted = c.Post("/api/nav?op=still", httplib::Headers{{"X-PT-Live", "1"}, {"Ranges-Seen", "0-1"}},
+                       "\r\nRange: bytes=0-1\r\n\r\n", "text/plain");
+  ASSERT_TRUE(posted);
+  EXPECT_EQ(posted->status, 200);
+  EXPECT_EQ(log_lines().size(), 3u);
+}
+
+TEST_F(LiveServer, RequestBodiesAreTakenOnlyAsContentLengthBytesWithinTheLimit) {
+  const std::string close = "Connection: close\r\n\r\n";
+  const std::string head = "POST /api/nav?op=still HTTP/1.1\r\nHost: " + host + "\r\nX-PT-Live: 1\r\n";
+  // Chunks of 4 KiB, 30 KiB in all: more than the 16 KiB a body may have, but each piece small.
+  std::string chunked;
+  for (int i = 0; i < 30; ++i) chunked += "400\r\n" + std::string(1024, 'x') + "\r\n";
+  expect_refused(head + "Transfer-Encoding: chunked\r\n" + close + chunked + "0\r\n\r\n", 411,
+                 "Transfer-Encoding is not accepted");
+  // A compressed body would be inflated past the limit (a few KiB of gzip can hold megabytes).
+  expect_refused(head + "Content-Encoding: gzip\r\nContent-Length: 10\r\n" + close + std::string(10, 'z'), 415,
+                 "Content-Encoding is not accepted");
+  expect_refused(head + close, 411, "needs a Content-Length");
+  expect_refused(head + "Content-Length: 3\r\nContent-Length: 3\r\n" + close + "abc", 400, "more than once");
+  expect_refused(head + "Content-Length: 16385\r\n" + close + std::string(16385, 'y'), 413,
+                 "a body of 16385 bytes is more than the 16384");
+  // A GET's body would be read as the next request.
+  expect_refused("GET /api/state HTTP/1.1\r\nHost: " + host + "\r\nContent-Length: 5\r\n" + close + "hello", 400,
+                 "a GET takes no body");
+  // A refused POST's body is left unread, so its connection closes instead of reading the body as a request.
+  test::Probe probe(port);
+  ASSERT_TRUE(
+      probe.send("POST /api/nav?op=still HTTP/1.1\r\nHost: evil.example\r\nX-PT-Live: 1\r\n"
+                 "Content-Length: 37\r\n\r\nGET /api/state HTTP/1.1\r\nHost: x\r\n\r\n"));
+  std::string reply = probe.read_all(milliseconds(3000));
+  EXPECT_EQ(test::status_of(reply), 403);
+  EXPECT_EQ(reply.find("HTTP/1.1", 10), std::string::npos) << reply;
+  // Within the limit, as Content-Length bytes, a body is fine.
+  httplib::Client c("127.0.0.1", port);
+  auto posted =
+      c.Post("/api/nav?op=still", httplib::Headers{{"X-PT-Live", "1"}}, std::string(16384, 'b'), "text/plain");
+  ASSERT_TRUE(posted);
+  EXPECT_EQ(posted->status, 200);
+}
+
+TEST_F(LiveServer, StopEndsEveryConnectionAtOnce) {
+  // An idle keep-alive connection, a frame request waiting for a frame, and a request that never ends.
+  test::Probe idle(port), waiting(port), stalled(port);
+  ASSERT_TRUE(idle.send("GET /api/state HTTP/1.1\r\nHost: " + host + "\r\n\r\n"));
+  ViewSettings one = session.view().settings;
+  one.samples = 1;  // a view complete at once: no frame comes while the request waits
+  const uint64_t version = session.set_settings(one);
+  uint64_t last = 0;
+  for (std::shared_ptr<const Frame> f; (f = session.frame_after(last, milliseconds(10000)));) {
+    last = f->info.id;
+    if (f->info.complete && f->info.view_version == version) break;
+  }
+  ASSERT_TRUE(waiting.send("GET /api/frame?after=" + std::to_string(last) + " HTTP/1.1\r\nHost: " + host + "\r\n\r\n"));
+  ASSERT_TRUE(stalled.send("GET /api/sta"));
+  std::this_thread::sleep_for(milliseconds(100));
+  const auto start = std::chrono::steady_clock::now();
+  server.stop();  // as serve_live_view stops: the server, then the render
+  session.stop();
+  listener.join();
+  const auto took = std::chrono::steady_clock::now() - start;
+  EXPECT_LT(took, milliseconds(700)) << "the keep-alive wait is 1 s, the frame wait 3 s";
+  std::string reply = waiting.read_all(milliseconds(1000));
+  EXPECT_EQ(test::status_of(reply), 503) << reply.substr(0, 300);
+  EXPECT_NE(reply.find("the server is stopping"), std::string::npos);
+}
+
 TEST_F(LiveServer, StalledRequestsTimeOutWithA408WhileOthersAreServed) {
   test::Probe partial_line(port), partial_headers(port), trickle(port);
   ASSERT_TRUE(partial_line.send("GET /api/sta"));
@@ -269,6 +347,57 @@ TEST_F(LiveServer, FilesAreWrittenOnlyIntoTheStartDirectoryUnderTheirNames) {
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "shot.png"));
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"camera.txt", "my_view.txt", "shot.png"}));
+}
+
+TEST_F(LiveServer, ANamedFileNeverReplacesAnExistingOne) {
+  auto write = [this](const char* name) {
+    std::FILE* f = std::fopen((dir / name).c_str(), "w");
+    std::fputs("mine", f);
+    std::fclose(f);
+  };
+  auto read = [this](const char* name) {
+    std::string text(16, '\0');
+    std::FILE* f = std::fopen((dir / name).c_str(), "r");
+    text.resize(std::fread(text.data(), 1, text.size(), f));
+    std::fclose(f);
+    return text;
+  };
+  write("taken.txt");
+  write("taken.png");
+  write("shot_rate.png");
+  expect_refused(post("/api/camera/save?name=taken.txt"), 409, "taken.txt exists");
+  expect_refused(post("/api/render?name=taken.png"), 409, "taken.png exists");
+  // Under adaptive sampling the Render button also writes NAME_rate.png.
+  httplib::Client c("127.0.0.1", port);
+  ASSERT_EQ(client_post(c, "/api/settings?samples=2&adaptive_tolerance=0.5&adaptive_batch=1")->status, 200);
+  expect_refused(post("/api/render?name=shot.png"), 409, "shot_rate.png exists");
+  EXPECT_EQ(read("taken.txt"), "mine");
+  EXPECT_EQ(read("taken.png"), "mine");
+  EXPECT_EQ(read("shot_rate.png"), "mine");
+  // A new name is written, once: the second save of it is refused.
+  ASSERT_EQ(client_post(c, "/api/camera/save?name=new.txt")->status, 200);
+  expect_refused(post("/api/camera/save?name=new.txt"), 409, "new.txt exists");
+  // The default files are the command line's: saved again, they are replaced.
+  ASSERT_EQ(client_post(c, "/api/camera/save")->status, 200);
+  ASSERT_EQ(client_post(c, "/api/camera/save")->status, 200);
+  EXPECT_EQ(dir.entries(),
+            (std::vector<std::string>{"camera.txt", "new.txt", "shot_rate.png", "taken.png", "taken.txt"}));
+}
+
+TEST_F(LiveServer, ARenderJobWhoseNameAppearsMeanwhileFailsAndReplacesNothing) {
+  httplib::Client c("127.0.0.1", port);
+  ASSERT_EQ(client_post(c, "/api/settings?samples=64")->status, 200);
+  // The name is free when the job starts and taken before the view has its samples.
+  ASSERT_EQ(session.start_job(dir / "late.png", false), "");
+  std::FILE* f = std::fopen((dir / "late.png").c_str(), "w");
+  std::fputs("mine", f);
+  std::fclose(f);
+  for (int i = 0; i < 1000 && session.job().state == JobState::kRendering; ++i)
+    std::this_thread::sleep_for(milliseconds(10));
+  EXPECT_EQ(session.job().state, JobState::kFailed);
+  EXPECT_NE(session.job().message.find("late.png exists"), std::string::npos) << session.job().message;
+  EXPECT_EQ(std::filesystem::file_size(dir / "late.png"), 4u);
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"late.png"})) << "no temporary file is left";
 }
 
 }  // namespace
