@@ -32,8 +32,10 @@ void save_camera(RouteContext& ctx, const httplib::Request& req, httplib::Respon
   RequestParams params(req.params, {"name"});
   std::filesystem::path path = target(ctx, params, ".txt", ctx.config.camera_file);
   RenderSession::View v = ctx.session.view();
-  if (!StagedFile(path, format_camera_settings(v.camera)).publish(!params.has("name"))) return refuse_taken(res, path);
-  reply_json(res, {{"file", path.string()}, {"version", v.version}, {"camera", camera_json(v.camera)}});
+  // The screen fields of the view's size now (the camera it resolves to is the view's either way).
+  const ViewCamera camera = fit_screen(v.camera, v.settings.width, v.settings.height);
+  if (!StagedFile(path, format_camera_settings(camera)).publish(!params.has("name"))) return refuse_taken(res, path);
+  reply_json(res, {{"file", path.string()}, {"version", v.version}, {"camera", camera_json(camera)}});
 }
 
 void start_render(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {

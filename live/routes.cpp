@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "assets.h"
+#include "bvh/bvh4_inspect.h"
 #include "io/scene_error.h"
 #include "kernels/simd/isa.h"
 #include "request_params.h"
@@ -212,7 +213,7 @@ void add_frame_route(httplib::Server& server, RouteContext& ctx) {
 }  // namespace
 
 void add_routes(HttpServer& server, RenderSession& session, const SceneBvh4& bvh, const RouteConfig& config) {
-  auto ctx = std::make_shared<RouteContext>(RouteContext{session, bvh, config});
+  auto ctx = std::make_shared<RouteContext>(RouteContext{session, bvh, config, bvh4_max_depth(bvh.bvh())});
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
                               {"X-Frame-Options", "DENY"},
                               {"Referrer-Policy", "no-referrer"},

@@ -5,6 +5,7 @@
 // that stall, too many connections) each get a 4xx (or 503) and exactly one
 // log line, and meanwhile the server goes on answering and the render goes on
 // rendering.
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <thread>
@@ -175,6 +176,8 @@ TEST_F(LiveServer, HostileRequestsGetA4xxAndOneLogLine) {
   expect_refused(post("/api/nav?op=zoom&steps=1e6"), 400, "steps");
   expect_refused(post("/api/camera?position=nan,0,0&target=0,0,0"), 400, "position");
   expect_refused(post("/api/camera?position=1,1,1&target=1,1,1"), 400, "apart");
+  expect_refused(post("/api/camera?position=0,0,1e9&target=0,0,0"), 400, "apart");  // beyond max_r: not clamped
+  expect_refused(post("/api/camera?position=0,5,0&target=0,0,0"), 400, "straight above or below");
   expect_refused(post("/api/camera?position=0,0,5&target=0,0,0&vfov=180"), 400, "vfov");
   expect_refused(post("/api/settings?width=100000"), 400, "width: must be an integer from 16 to 4096");
   expect_refused(post("/api/settings?width=4096&height=4096"), 400, "at most 4194304 pixels");
@@ -347,6 +350,19 @@ TEST_F(LiveServer, FilesAreWrittenOnlyIntoTheStartDirectoryUnderTheirNames) {
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "shot.png"));
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"camera.txt", "my_view.txt", "shot.png"}));
+}
+
+TEST_F(LiveServer, ASavedCameraHasTheScreenFieldsOfTheViewsSizeNow) {
+  httplib::Client c("127.0.0.1", port);
+  ASSERT_EQ(client_post(c, "/api/settings?width=96&height=36")->status, 200);
+  ASSERT_EQ(client_post(c, "/api/camera/save?name=wide.txt")->status, 200);
+  const CameraSettingsFile f = read_camera_settings_file(dir / "wide.txt");
+  EXPECT_FLOAT_EQ(f.aspect, 96.0f / 36.0f);
+  EXPECT_EQ(f.screen_w, 96.0f);
+  EXPECT_EQ(f.screen_h, 36.0f);
+  const Camera saved = resolve_camera(f, 96, 36), view = resolve_camera(session.view().camera, 96, 36);
+  EXPECT_EQ(std::memcmp(&saved, &view, sizeof(Camera)), 0) << "-c FILE renders the view";
+  EXPECT_FLOAT_EQ(f.screen_dist, float(36 / (2.0 * view.tan_half_vfov)));
 }
 
 TEST_F(LiveServer, ANamedFileNeverReplacesAnExistingOne) {
