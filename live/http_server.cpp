@@ -90,7 +90,7 @@ HttpServer::HttpServer(const ServerLimits& limits, LogSink log) : limits_(limits
   set_logger([this](const httplib::Request& req, const httplib::Response& res) {
     t_last_status = res.status;
     t_close = res.get_header_value("Connection") == "close";
-    if (res.status < 400) return;
+    if (res.status < 400 || (res.status == 503 && stopping_.load())) return;  // requests ended by the stop
     std::string why = res.get_header_value("X-PT-Error");
     log_("live: " + std::to_string(res.status) + " " + log_safe(req.method, 16) + " " + log_safe(req.target) +
          " from " + t_peer + ": " + (why.empty() ? reason(res.status) : why));

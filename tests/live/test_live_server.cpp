@@ -288,6 +288,7 @@ TEST_F(LiveServer, StopEndsEveryConnectionAtOnce) {
   std::string reply = waiting.read_all(milliseconds(1000));
   EXPECT_EQ(test::status_of(reply), 503) << reply.substr(0, 300);
   EXPECT_NE(reply.find("the server is stopping"), std::string::npos);
+  EXPECT_TRUE(log_lines().empty()) << "the requests the stop ends are not refusals: " << log_lines().front();
 }
 
 TEST_F(LiveServer, StalledRequestsTimeOutWithA408WhileOthersAreServed) {
