@@ -38,8 +38,16 @@ class LiveServer : public ::testing::Test {
     l.threads = 12;
     return l;
   }
-  static SessionConfig config(const Scene& s) {
+  /// The session's log lines go to the server's log; a test sets fail_next_chunk to make the render throw.
+  SessionConfig config(const Scene& s) {
     SessionConfig c;
+    c.log = [this](const std::string& line) {
+      std::lock_guard lock(log_mutex);
+      log.push_back(line);
+    };
+    c.on_chunk = [this](uint64_t) {
+      if (fail_next_chunk.exchange(false)) throw std::bad_alloc();
+    };
     c.base.width = kW;
     c.base.height = kH;
     c.base.threads = 2;
@@ -97,11 +105,12 @@ class LiveServer : public ::testing::Test {
     return c.Post(target.c_str(), httplib::Headers{{"X-PT-Live", "1"}}, "", "text/plain");
   }
 
+  std::atomic<bool> fail_next_chunk{false};
+  std::mutex log_mutex;
+  std::vector<std::string> log;
   LoadResult loaded = load_collada_file(test::project_scene("cornell_spheres.dae"));
   SceneBvh4 bvh{loaded.scene};
   RenderSession session{loaded.scene, bvh, config(loaded.scene)};
-  std::mutex log_mutex;
-  std::vector<std::string> log;
   HttpServer server{limits(), [this](const std::string& line) {
                       std::lock_guard lock(log_mutex);
                       log.push_back(line);
@@ -289,6 +298,33 @@ TEST_F(LiveServer, StopEndsEveryConnectionAtOnce) {
   EXPECT_EQ(test::status_of(reply), 503) << reply.substr(0, 300);
   EXPECT_NE(reply.find("the server is stopping"), std::string::npos);
   EXPECT_TRUE(log_lines().empty()) << "the requests the stop ends are not refusals: " << log_lines().front();
+}
+
+TEST_F(LiveServer, AFailedRenderIsOneLogLineAndItsFrameRequestsAreAnswered500WithTheReason) {
+  uint64_t newest = 0;  // the view complete: no frame comes but those of the next view
+  for (std::shared_ptr<const Frame> f; (f = session.frame_after(newest, milliseconds(10000)));) {
+    newest = f->info.id;
+    if (f->info.complete) break;
+  }
+  fail_next_chunk.store(true);
+  httplib::Client c("127.0.0.1", port);
+  ASSERT_EQ(client_post(c, "/api/nav?op=orbit&dx=3&dy=0")->status, 200);
+  auto frame = c.Get(("/api/frame?after=" + std::to_string(newest)).c_str());
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->status, 500);
+  EXPECT_NE(frame->body.find("the render of this view failed: std::bad_alloc"), std::string::npos) << frame->body;
+  for (int i = 0; i < 100 && log_lines().size() < 2; ++i) std::this_thread::sleep_for(milliseconds(5));
+  std::vector<std::string> lines = log_lines();  // the log line of a response follows its last byte
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].rfind("live: the render of view ", 0), 0u) << lines[0];
+  EXPECT_EQ(lines[1].rfind("live: 500 GET /api/frame", 0), 0u) << lines[1];
+  EXPECT_NE(nlohmann::json::parse(c.Get("/api/state")->body)["render_error"].get<std::string>().find("bad_alloc"),
+            std::string::npos);
+  // The server goes on, and the next change renders.
+  ASSERT_EQ(client_post(c, "/api/nav?op=orbit&dx=3&dy=0")->status, 200);
+  auto next = c.Get(("/api/frame?after=" + std::to_string(newest)).c_str());
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->status, 200);
 }
 
 TEST_F(LiveServer, StalledRequestsTimeOutWithA408WhileOthersAreServed) {
