@@ -44,7 +44,7 @@ BBox root_box(const Bvh4& bvh) {
 void collect_level(const Bvh4& bvh, uint32_t ref, int depth, int target, size_t max_boxes, Bvh4Level& out) {
   if (bvh4_ref::is_leaf(ref)) return;
   const Bvh4Node& n = bvh.node(ref);
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < 4 && !out.truncated; ++i) {  // once full, the rest of the tree is not walked
     if (!slot_used(n, i)) continue;
     if (depth + 1 == target) {
       if (out.boxes.size() < max_boxes) out.boxes.push_back(slot_box(n, i));

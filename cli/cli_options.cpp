@@ -176,7 +176,8 @@ std::string validate_live(const Options& o) {
                       : o.count_tests                  ? "--count-tests"
                                                        : nullptr;
   if (alone) return std::string("--serve: ") + alone + " is for renders to a file, not the live view";
-  if (s.width < 16 || s.height < 16 || int64_t(s.width) * s.height > (int64_t(1) << 22))
+  if (s.width < 16 || s.height < 16 || s.width > 4096 || s.height > 4096 ||
+      int64_t(s.width) * s.height > (int64_t(1) << 22))
     return "--serve: -r " + std::to_string(s.width) + " " + std::to_string(s.height) +
            ": the live view takes 16 to 4096 pixels a side and at most 4194304 pixels";
   if (o.bind_address.empty() || o.bind_address.size() > 253 ||

@@ -43,8 +43,10 @@ void check_writable(const std::filesystem::path& path) {
   ::unlink(tmp.c_str());
 }
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
-  std::filesystem::path tmp = temporary_sibling(path);
+namespace {
+
+/// Writes and syncs `bytes` to the new file `tmp`; removes it and throws on failure.
+void write_temporary(const std::filesystem::path& path, const std::filesystem::path& tmp, std::string_view bytes) {
   int fd = open_temporary(tmp);
   if (fd < 0) fail(path, "cannot create output", errno);
   size_t done = 0;
@@ -64,11 +66,35 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
     ::unlink(tmp.c_str());
     fail(path, "write failed", err);
   }
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    int err = errno;
-    ::unlink(tmp.c_str());
-    fail(path, "cannot move output into place", err);
+}
+
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
+  StagedFile(path, bytes).publish(true);
+}
+
+StagedFile::StagedFile(const std::filesystem::path& path, std::string_view bytes)
+    : path_(path), temporary_(temporary_sibling(path)) {
+  write_temporary(path_, temporary_, bytes);
+  staged_ = true;
+}
+
+StagedFile::~StagedFile() {
+  if (staged_) ::unlink(temporary_.c_str());
+}
+
+bool StagedFile::publish(bool replace) {
+  if (replace) {
+    if (::rename(temporary_.c_str(), path_.c_str()) != 0) fail(path_, "cannot move output into place", errno);
+    staged_ = false;
+    return true;
   }
+  if (::link(temporary_.c_str(), path_.c_str()) != 0) {
+    if (errno == EEXIST) return false;
+    fail(path_, "cannot move output into place", errno);
+  }
+  return true;  // the destructor removes the temporary name
 }
 
 }  // namespace pt

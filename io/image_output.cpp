@@ -60,15 +60,16 @@ std::string encode_pfm(int width, int height, const std::vector<float3>& rgb) {
   return out;
 }
 
-void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q) {
-  if (image_format_for(path) == ImageFormat::kPfm) {
-    write_file_atomically(path, encode_pfm(film.width, film.height, film.radiance));
-    return;
-  }
+std::string encode_image(const std::filesystem::path& path, const Film& film, PngQuantization q) {
+  if (image_format_for(path) == ImageFormat::kPfm) return encode_pfm(film.width, film.height, film.radiance);
   std::vector<uint8_t> rgb(film.radiance.size() * 3);
   for (size_t i = 0; i < film.radiance.size(); ++i)
     for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = encode_channel(film.radiance[i][c], q);
-  write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
+  return encode_png_rgb8(film.width, film.height, rgb);
+}
+
+void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q) {
+  write_file_atomically(path, encode_image(path, film, q));
 }
 
 void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]) {
@@ -78,10 +79,14 @@ void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]) {
   for (int k = 0; k < 3; ++k) rgb[k] = static_cast<uint8_t>(std::lround(c[k] * 255.0f));
 }
 
-void write_sample_rate_image(const std::filesystem::path& path, const Film& film) {
+std::string encode_sample_rate_image(const Film& film) {
   std::vector<uint8_t> rgb(film.samples.size() * 3);
   for (size_t i = 0; i < film.samples.size(); ++i) sample_rate_rgb8(film.samples[i], film.max_samples, &rgb[i * 3]);
-  write_file_atomically(path, encode_png_rgb8(film.width, film.height, rgb));
+  return encode_png_rgb8(film.width, film.height, rgb);
+}
+
+void write_sample_rate_image(const std::filesystem::path& path, const Film& film) {
+  write_file_atomically(path, encode_sample_rate_image(film));
 }
 
 void write_variance_image(const std::filesystem::path& path, const Film& film) {

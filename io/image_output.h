@@ -35,6 +35,9 @@ void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]);
 
 void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q = PngQuantization::kNearest);
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
+/// The bytes write_image and write_sample_rate_image write (the format by `path`'s extension).
+std::string encode_image(const std::filesystem::path& path, const Film& film, PngQuantization q);
+std::string encode_sample_rate_image(const Film& film);
 /// Each pixel's variance of its mean illuminance as a grey PFM (for references).
 void write_variance_image(const std::filesystem::path& path, const Film& film);
 

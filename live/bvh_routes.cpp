@@ -22,10 +22,9 @@ void level(RouteContext& ctx, const httplib::Request& req, httplib::Response& re
   Bvh4Level l = bvh4_level(ctx.bvh.bvh(), depth, kMaxBoxes);
   nlohmann::json boxes = nlohmann::json::array();
   for (const BBox& b : l.boxes) boxes.push_back(box_json(b));
-  reply_json(res, {{"depth", depth},
-                   {"max_depth", bvh4_max_depth(ctx.bvh.bvh())},
-                   {"boxes", std::move(boxes)},
-                   {"truncated", l.truncated}});
+  reply_json(
+      res,
+      {{"depth", depth}, {"max_depth", ctx.bvh_max_depth}, {"boxes", std::move(boxes)}, {"truncated", l.truncated}});
 }
 
 /// The walk of the camera ray through point (x, y) of the view (pixels from

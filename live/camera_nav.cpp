@@ -137,6 +137,29 @@ ViewCamera look_at(const ViewCamera& v, float3 position, float3 target, const Na
   return o;
 }
 
+std::string look_at_problem(float3 position, float3 target, const NavLimits& limits) {
+  D3 p = d3(position), t = d3(target);
+  D3 offset{p.x - t.x, p.y - t.y, p.z - t.z};
+  double r = std::sqrt(offset.x * offset.x + offset.y * offset.y + offset.z * offset.z);
+  if (!(r >= limits.min_r && r <= limits.max_r))
+    return "position and target must be from " + std::to_string(limits.min_r) + " to " + std::to_string(limits.max_r) +
+           " apart, got " + std::to_string(r);
+  const double phi = std::acos(std::clamp(offset.y / r, -1.0, 1.0));
+  if (phi < kMinPhi || phi > kPi - kMinPhi)
+    return "the camera must not be straight above or below its target (the view keeps +Y up)";
+  return {};
+}
+
+ViewCamera fit_screen(const ViewCamera& v, int width, int height) {
+  const CameraSettingsFile f = camera_settings_of(resolve_camera(v, width, height), width, height);
+  ViewCamera o = v;
+  o.aspect = f.aspect;
+  o.screen_w = f.screen_w;
+  o.screen_h = f.screen_h;
+  o.screen_dist = f.screen_dist;
+  return o;
+}
+
 bool project_to_pixel(const Camera& c, int width, int height, float3 p, float& px, float& py) {
   D3 d = d3(p - c.position), sx = d3(c.screen_x), sy = d3(c.screen_y), tc = d3(c.to_camera);
   double depth = -(d.x * tc.x + d.y * tc.y + d.z * tc.z);

@@ -6,6 +6,8 @@
 // resolve_camera(view, width, height) renders both.
 #pragma once
 
+#include <string>
+
 #include "io/camera_setup.h"
 #include "kernels/math/bbox.h"
 #include "kernels/scene/camera.h"
@@ -42,8 +44,18 @@ ViewCamera pan(const ViewCamera& v, double dx, double dy, float tan_half_vfov, i
 ViewCamera zoom(const ViewCamera& v, double steps, const NavLimits& limits);
 
 /// The camera at `position` looking at `target` with +Y up (the course's
-/// basis), fields of view and lens from `v`. `position` must differ from `target`.
+/// basis), fields of view and lens from `v`. `position` must differ from `target`;
+/// a distance or direction that look_at_problem refuses is clamped.
 ViewCamera look_at(const ViewCamera& v, float3 position, float3 target, const NavLimits& limits);
+
+/// Why look_at cannot place the camera at `position` exactly (closer than
+/// min_r or farther than max_r from `target`, or straight above or below it,
+/// where the +Y basis degenerates), or "".
+std::string look_at_problem(float3 position, float3 target, const NavLimits& limits);
+
+/// `v` with the file's screen fields (aspect, screen_w, screen_h, screen_dist)
+/// of a width x height view; the camera it resolves to at that size is unchanged.
+ViewCamera fit_screen(const ViewCamera& v, int width, int height);
 
 /// Where world point `p` lands in a width x height view of `c`, in pixels
 /// from the top-left corner (x right, y down); false when it lies behind the

@@ -1,4 +1,5 @@
-// poll() with deadlines, recv() through a small buffer, send() without SIGPIPE.
+// poll() with deadlines, recv() through a small buffer, send() without SIGPIPE,
+// and the header names followed byte by byte.
 #include "connection_stream.h"
 
 #include <arpa/inet.h>
@@ -7,6 +8,7 @@
 #include <sys/socket.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 
@@ -31,8 +33,8 @@ void address_of(const sockaddr_storage& a, std::string& ip, int& port) {
 
 }  // namespace
 
-ConnectionStream::ConnectionStream(int fd, const StreamLimits& limits, const httplib::Server& server)
-    : fd_(fd), limits_(limits), server_(server) {
+ConnectionStream::ConnectionStream(int fd, const StreamLimits& limits, const std::atomic<bool>& stopping)
+    : fd_(fd), limits_(limits), stopping_(stopping) {
   begin_request();
 }
 
@@ -40,6 +42,32 @@ void ConnectionStream::begin_request() {
   read_deadline_ = Clock::now() + limits_.request_time;
   request_bytes_ = len_ - pos_;
   timed_out_ = too_large_ = wrote_ = writing_ = false;
+  part_ = Part::kRequestLine;
+  line_length_ = 0;
+  line_is_range_ = true;
+}
+
+bool ConnectionStream::admit(char c) {
+  if (part_ == Part::kBody) return true;
+  if (c == '\n') {
+    // httplib ends the headers at a line of exactly "\r\n" (and skips a line ending in a bare '\n').
+    if (part_ == Part::kHeaders && line_length_ == 1 && line_starts_cr_) part_ = Part::kBody;
+    if (part_ == Part::kRequestLine) part_ = Part::kHeaders;
+    line_length_ = 0;
+    line_is_range_ = true;
+    return true;
+  }
+  if (line_length_ == 0) line_starts_cr_ = c == '\r';
+  static constexpr char kRange[] = "range:";
+  if (part_ == Part::kHeaders && line_is_range_ && line_length_ < 6) {
+    line_is_range_ = std::tolower(static_cast<unsigned char>(c)) == kRange[line_length_];
+    if (line_is_range_ && line_length_ == 5) {
+      range_refused_ = true;
+      return false;
+    }
+  }
+  ++line_length_;
+  return true;
 }
 
 bool ConnectionStream::wait(short events, Clock::time_point deadline) const {
@@ -49,7 +77,11 @@ bool ConnectionStream::wait(short events, Clock::time_point deadline) const {
       timed_out_ = true;
       return false;
     }
-    if (!server_.is_running()) return false;
+    if (stopping_.load()) {
+      // A request is not awaited; a response gets a short grace to be taken.
+      if (stop_seen_ == Clock::time_point{}) stop_seen_ = now;
+      if (events != POLLOUT || now >= stop_seen_ + kStopGrace) return false;
+    }
     auto slice = std::min<Clock::duration>(deadline - now, kSlice);
     pollfd p{fd_, events, 0};
     int r = poll(&p, 1, int(std::chrono::duration_cast<std::chrono::milliseconds>(slice).count()) + 1);
@@ -66,6 +98,7 @@ bool ConnectionStream::is_writable() const {
 }
 
 ssize_t ConnectionStream::read(char* ptr, size_t size) {
+  if (range_refused_) return -1;
   if (pos_ == len_) {
     if (request_bytes_ >= limits_.request_bytes) {
       too_large_ = true;
@@ -81,10 +114,13 @@ ssize_t ConnectionStream::read(char* ptr, size_t size) {
     len_ = size_t(n);
     request_bytes_ += size_t(n);
   }
-  size_t n = std::min(size, len_ - pos_);
-  std::memcpy(ptr, buffer_ + pos_, n);
-  pos_ += n;
-  return ssize_t(n);
+  const size_t n = std::min(size, len_ - pos_);
+  size_t admitted = 0;
+  while (admitted < n && admit(buffer_[pos_ + admitted])) ++admitted;
+  if (admitted == 0 && range_refused_) return -1;  // the colon of a Range header
+  std::memcpy(ptr, buffer_ + pos_, admitted);
+  pos_ += admitted;
+  return ssize_t(admitted);
 }
 
 ssize_t ConnectionStream::write(const char* ptr, size_t size) {

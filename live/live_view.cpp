@@ -3,7 +3,12 @@
 #include "live_view.h"
 
 #include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -27,7 +32,50 @@ std::string host_port(const std::string& host, int port) {
   return (host.find(':') != std::string::npos ? "[" + host + "]" : host) + ":" + std::to_string(port);
 }
 
+/// The addresses of this machine's interfaces, as a Host header writes them (IPv6 in brackets, no scope).
+std::vector<std::string> interface_addresses() {
+  std::vector<std::string> out;
+  ifaddrs* list = nullptr;
+  if (getifaddrs(&list) != 0) return out;
+  for (ifaddrs* a = list; a; a = a->ifa_next) {
+    if (!a->ifa_addr) continue;
+    char text[INET6_ADDRSTRLEN] = "";
+    if (a->ifa_addr->sa_family == AF_INET) {
+      inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(a->ifa_addr)->sin_addr, text, sizeof text);
+    } else if (a->ifa_addr->sa_family == AF_INET6) {
+      inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6*>(a->ifa_addr)->sin6_addr, text, sizeof text);
+    }
+    if (text[0]) out.push_back(text);
+  }
+  freeifaddrs(list);
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 }  // namespace
+
+std::vector<std::string> accepted_hosts(const std::string& bind, int port) {
+  std::vector<std::string> names = {"127.0.0.1", "localhost", "::1", bind};
+  if (!is_loopback(bind)) {
+    char name[256] = "";
+    if (gethostname(name, sizeof name - 1) == 0 && name[0]) names.push_back(name);
+    if (bind == "0.0.0.0" || bind == "::")
+      for (const std::string& a : interface_addresses()) names.push_back(a);
+  }
+  std::vector<std::string> hosts;
+  for (const std::string& n : names) {
+    if (n == "0.0.0.0" || n == "::") continue;  // not an address a client connects to
+    hosts.push_back(lower(host_port(n, port)));
+    if (port == 80) hosts.push_back(lower(n.find(':') != std::string::npos ? "[" + n + "]" : n));
+  }
+  std::sort(hosts.begin(), hosts.end());
+  hosts.erase(std::unique(hosts.begin(), hosts.end()), hosts.end());
+  return hosts;
+}
 
 int serve_live_view(const Scene& scene, const LiveOptions& o, const std::atomic<bool>& stop) {
   SceneBvh4 bvh(scene);
@@ -39,11 +87,10 @@ int serve_live_view(const Scene& scene, const LiveOptions& o, const std::atomic<
   if (port < 0)
     throw InputError("--serve: cannot listen on " + host_port(o.bind, o.port) +
                      " (in use, or not an address of this machine)");
-  RouteConfig routes{o.directory, o.camera_file, o.image_file, {}, scene.name};
-  if (is_loopback(o.bind))
-    routes.hosts = {host_port("127.0.0.1", port), host_port("localhost", port), host_port("::1", port),
-                    host_port(o.bind, port)};
-  RenderSession session(scene, bvh, o.session);
+  RouteConfig routes{o.directory, o.camera_file, o.image_file, accepted_hosts(o.bind, port), scene.name};
+  SessionConfig session_config = o.session;
+  session_config.log = [&server](const std::string& line) { server.log(line); };
+  RenderSession session(scene, bvh, session_config);
   add_routes(server, session, bvh, routes);
   std::thread listener([&server] { server.listen_after_bind(); });
   if (!o.quiet) {
@@ -55,8 +102,8 @@ int serve_live_view(const Scene& scene, const LiveOptions& o, const std::atomic<
     std::fflush(stdout);
   }
   while (!stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  session.stop();
-  server.stop();
+  server.stop();   // connections end after their response, the listener closes
+  session.stop();  // frame requests still waiting return (503: the server is stopping)
   listener.join();
   if (!o.quiet) std::printf("Live view stopped\n");
   return 0;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "http_server.h"
 #include "kernels/scene/scene.h"
@@ -30,5 +31,11 @@ int serve_live_view(const Scene& scene, const LiveOptions& options, const std::a
 
 /// Whether `address` is a loopback address (127.0.0.0/8, ::1, "localhost").
 bool is_loopback(const std::string& address);
+
+/// The Host header values (lower case, "host:port", IPv6 in brackets) a server bound to `bind` answers:
+/// 127.0.0.1, localhost, [::1] and `bind` itself; for any other address than a loopback one also this
+/// machine's name, and for 0.0.0.0 and :: every address of its interfaces. Any other Host is refused
+/// (no DNS rebinding: a name an attacker controls never matches).
+std::vector<std::string> accepted_hosts(const std::string& bind, int port);
 
 }  // namespace pt::live

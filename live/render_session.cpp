@@ -2,8 +2,11 @@
 #include "render_session.h"
 
 #include <algorithm>
+#include <cstdio>
 
+#include "io/atomic_file.h"
 #include "io/camera_setup.h"
+#include "io/image_output.h"
 #include "io/scene_error.h"
 #include "progressive.h"
 #include "wavefront/engines.h"
@@ -11,6 +14,17 @@
 namespace pt::live {
 
 using Clock = std::chrono::steady_clock;
+
+namespace {
+
+/// Whether a frame costs the same under `a` and `b`: all but the sample target and the preview divisor agree.
+bool same_cost(ViewSettings a, ViewSettings b) {
+  a.samples = b.samples = 0;
+  a.preview = b.preview = 0;
+  return a == b;
+}
+
+}  // namespace
 
 /// The view being rendered: its accumulated samples and what they cost.
 struct RenderSession::Progress {
@@ -114,15 +128,16 @@ uint64_t RenderSession::set_settings(const ViewSettings& settings) {
 
 std::shared_ptr<const Frame> RenderSession::frame_after(uint64_t after, std::chrono::milliseconds timeout) const {
   std::unique_lock lock(mutex_);
-  auto ready = [&] { return stop_ || (latest_ && latest_->info.id != after); };
+  const uint64_t failures = failures_;
+  auto ready = [&] { return stop_ || failures_ != failures || (latest_ && latest_->info.id != after); };
   frame_cv_.wait_for(lock, timeout, ready);
   return latest_ && latest_->info.id != after ? latest_ : nullptr;
 }
 
-std::string RenderSession::start_job(const std::filesystem::path& png) {
+std::string RenderSession::start_job(const std::filesystem::path& png, bool replace) {
   std::lock_guard lock(mutex_);
   if (job_.state == JobState::kRendering) return "a render is already running (" + job_.path.string() + ")";
-  job_ = RenderJob{JobState::kRendering, png, view_.version, 0.0, {}};
+  job_ = RenderJob{JobState::kRendering, png, replace, view_.version, 0.0, {}};
   work_cv_.notify_all();
   return {};
 }
@@ -133,6 +148,20 @@ bool RenderSession::cancel_job() {
   job_.state = JobState::kCancelled;
   job_.message = "cancelled";
   return true;
+}
+
+std::string RenderSession::render_error() const {
+  std::lock_guard lock(mutex_);
+  return error_version_ == view_.version ? render_error_ : std::string();
+}
+
+bool RenderSession::stopped() const {
+  std::lock_guard lock(mutex_);
+  return stop_;
+}
+
+double RenderSession::predicted_frame_seconds(const ViewSettings& s) const {
+  return same_cost(s, measured_for_) ? full_frame_seconds_ : 0.0;
 }
 
 RenderJob RenderSession::job() const {
@@ -153,9 +182,34 @@ void RenderSession::run() {
       std::unique_lock lock(mutex_);
       if (!wait_for_work(lock, p, step)) return;
     }
-    if (step.kind == Step::Kind::kWriteJob) write_job(p);
-    else render_step(step, p);
+    try {
+      if (step.kind == Step::Kind::kWriteJob) write_job(p);
+      else render_step(step, p);
+    } catch (const std::exception& e) { fail_step(step.view, p, e.what()); } catch (...) {
+      fail_step(step.view, p, "unknown exception");
+    }
   }
+}
+
+void RenderSession::fail_step(const View& view, Progress& p, const std::string& what) {
+  p = Progress{};
+  p.version = view.version;  // nothing more of this view until it changes
+  p.complete = true;
+  const std::string line = "live: the render of view " + std::to_string(view.version) + " (" +
+                           std::to_string(view.settings.width) + "x" + std::to_string(view.settings.height) +
+                           ") failed: " + what + "; it resumes at the next change";
+  if (config_.log) config_.log(line);
+  else std::fprintf(stderr, "%s\n", line.c_str());
+  std::lock_guard lock(mutex_);
+  running_may_finish_ = false;
+  render_error_ = what;
+  error_version_ = view.version;
+  ++failures_;
+  if (job_.state == JobState::kRendering) {
+    job_.state = JobState::kFailed;
+    job_.message = "the render failed: " + what;
+  }
+  frame_cv_.notify_all();
 }
 
 bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Progress& p, Step& step) {
@@ -166,7 +220,9 @@ bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Prog
     step.changed_at = changed_at_;
     if (view_.version != p.version) {
       step.kind = Step::Kind::kRestart;
-      step.divisor = moving ? preview_divisor(view_.settings.preview, full_frame_seconds_, config_.frame_budget) : 1;
+      step.divisor = moving ? preview_divisor(view_.settings.preview, predicted_frame_seconds(view_.settings),
+                                              config_.frame_budget)
+                            : 1;
       step.samples = 1;
       break;
     }
@@ -179,7 +235,8 @@ bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Prog
     if (p.divisor == 1 && !p.complete && !moving) {
       step.kind = Step::Kind::kContinue;
       step.divisor = 1;
-      step.samples = next_step(p.done, uint32_t(view_.settings.samples), seconds_per_sample_, config_.max_step_seconds);
+      const double rate = same_cost(view_.settings, measured_for_) ? seconds_per_sample_ : 0.0;
+      step.samples = next_step(p.done, uint32_t(view_.settings.samples), rate, config_.max_step_seconds);
       break;
     }
     if (p.divisor == 1 && p.complete && job_.state == JobState::kRendering && job_.view_version == p.version) {
@@ -191,9 +248,12 @@ bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Prog
     else work_cv_.wait(lock);
   }
   // A view's first frame finishes even if the view changes meanwhile when it is expected within the
-  // budget, or when the last one was cancelled: a camera that keeps moving keeps producing frames.
-  const double expected = full_frame_seconds_ / (double(step.divisor) * step.divisor);
-  running_may_finish_ = step.kind == Step::Kind::kRestart && (expected <= config_.frame_budget || starved_);
+  // budget, or when the last one was cancelled: a camera that keeps moving keeps producing frames. Only
+  // when its time is known (measured with the same size and settings) and at most max_uncancelled_seconds.
+  const double predicted = predicted_frame_seconds(step.view.settings);
+  const double expected = predicted / (double(step.divisor) * step.divisor);
+  running_may_finish_ = step.kind == Step::Kind::kRestart && predicted > 0 &&
+                        expected <= config_.max_uncancelled_seconds && (expected <= config_.frame_budget || starved_);
   cancel_.store(false);
   return true;
 }
@@ -209,11 +269,13 @@ void RenderSession::render_step(const Step& step, Progress& p) {
 
   Accumulation reached;
   std::atomic<uint64_t> chunks{0};
+  std::atomic<double> fraction{0.0};
   RenderControl control;
   control.cancel = &cancel_;
   if (!restart) control.resume_from = &p.acc;
   control.on_pass = [&reached](const Accumulation& acc) { reached = acc; };
-  control.progress = [&](double) {  // after each chunk, on the thread that rendered it
+  control.progress = [&](double done) {  // after each chunk, on the thread that rendered it
+    fraction.store(std::max(fraction.load(), done));
     uint64_t n = chunks.fetch_add(1) + 1;
     if (cancel_.load()) chunks_after_cancel_.fetch_add(1);
     if (config_.on_chunk) config_.on_chunk(n);
@@ -225,6 +287,12 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
   if (out.cancelled) {
+    // A cancelled first frame still tells what a whole one costs with these settings.
+    if (restart && fraction.load() > 0.0) {
+      full_frame_seconds_ = seconds / fraction.load() * step.divisor * step.divisor;
+      if (!same_cost(vs, measured_for_)) seconds_per_sample_ = 0;
+      measured_for_ = vs;
+    }
     std::lock_guard lock(mutex_);
     running_may_finish_ = false;
     ++counters_.passes_cancelled;
@@ -249,8 +317,10 @@ void RenderSession::render_step(const Step& step, Progress& p) {
       p.done >= uint32_t(vs.samples) ||
       std::all_of(p.acc.pixels.begin(), p.acc.pixels.end(), [](const PixelAccumulator& a) { return a.converged != 0; });
   // The time of one sample at the view's size, from every render: it picks the preview's divisor.
+  if (!same_cost(vs, measured_for_)) seconds_per_sample_ = 0;
   if (step.divisor == 1) seconds_per_sample_ = seconds / step.samples;
   full_frame_seconds_ = step.divisor == 1 ? seconds_per_sample_ : seconds * step.divisor * step.divisor;
+  measured_for_ = vs;
 
   std::lock_guard lock(mutex_);
   running_may_finish_ = false;
@@ -282,19 +352,33 @@ void RenderSession::render_step(const Step& step, Progress& p) {
 
 void RenderSession::write_job(const Progress& p) {
   std::filesystem::path path;
-  bool adaptive = false;
+  bool adaptive = false, replace = true;
   {
     std::lock_guard lock(mutex_);
     path = job_.path;
+    replace = job_.replace;
     adaptive = render_settings(config_.base, view_.settings, 1, 1).adaptive();
   }
+  // The files are staged whole, then put in place only if the job still runs.
   std::string error;
+  std::unique_ptr<StagedFile> image, rate;
   try {
-    write_image(path, *p.film, config_.quantization);
-    if (adaptive) write_sample_rate_image(rate_image_path(path), *p.film);
+    if (!p.film) throw InputError("nothing was rendered");
+    image = std::make_unique<StagedFile>(path, encode_image(path, *p.film, config_.quantization));
+    if (adaptive) rate = std::make_unique<StagedFile>(rate_image_path(path), encode_sample_rate_image(*p.film));
   } catch (const std::exception& e) { error = e.what(); }
   std::lock_guard lock(mutex_);
-  if (job_.state != JobState::kRendering) return;  // cancelled while writing: the file is written all the same
+  if (job_.state != JobState::kRendering) return;  // cancelled: nothing is written
+  if (error.empty()) {
+    try {
+      if (!image->publish(replace)) {
+        error = path.string() + " exists (it is left as it is)";
+      } else if (rate && !rate->publish(replace)) {
+        error = rate->path().string() + " exists (it is left as it is)";
+        std::filesystem::remove(path);  // the image just linked: the pair appears whole or not at all
+      }
+    } catch (const std::exception& e) { error = e.what(); }
+  }
   job_.state = error.empty() ? JobState::kDone : JobState::kFailed;
   job_.progress = error.empty() ? 1.0 : job_.progress;
   job_.message = error;

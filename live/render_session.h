@@ -6,7 +6,12 @@
 // except a view's first frame (one sample) that is expected within the frame
 // budget or follows a cancelled one, which finishes, so that a moving camera
 // keeps producing frames; while the camera moves, only such first frames are
-// rendered, and accumulation resumes once it stops. Samples accumulate in
+// rendered, and accumulation resumes once it stops. The expectation is the
+// measured time of a frame with the same size and settings (none after a
+// change of either: then the frame can be cancelled), and a frame expected to
+// take longer than max_uncancelled_seconds is never let finish. An exception in
+// the render (a view too large for memory) is logged, stops that view's render
+// until the next change, and is reported by render_error(). Samples accumulate in
 // sample order from step to step (resume_from), so a still view at N samples
 // is the image `pathtracer -s N` renders with the same camera and flags.
 #pragma once
@@ -38,10 +43,12 @@ struct SessionConfig {
   PngQuantization quantization = PngQuantization::kNearest;
   double frame_budget = 1.0 / 30;                  ///< seconds a frame may take while the camera moves
   double max_step_seconds = 0.25;                  ///< the longest progressive step of a still view
+  double max_uncancelled_seconds = 0.25;           ///< the longest a frame that a change does not cancel may take
   std::chrono::milliseconds still_after{150};      ///< a drag without a move for this long has ended (without kStill)
   size_t wave_paths = 4096;                        ///< camera samples per wave at -l 1 (fewer for more light samples)
   std::function<void(uint64_t chunk)> on_chunk;    ///< tests: called after each chunk of paths (render threads)
   std::function<void(const FrameInfo&)> on_frame;  ///< tests: called as each frame is published (render thread)
+  std::function<void(const std::string&)> log;     ///< one line per render failure (none: stderr)
 };
 
 /// A camera move from the page, in pixels of the view (zoom: wheel steps).
@@ -60,6 +67,7 @@ inline constexpr const char* kJobStateNames[] = {"idle", "rendering", "done", "f
 struct RenderJob {
   JobState state = JobState::kIdle;
   std::filesystem::path path;  ///< the PNG
+  bool replace = true;         ///< false: a file of that name (or its _rate.png) fails the job instead
   uint64_t view_version = 0;   ///< the view it renders
   double progress = 0;         ///< samples done / -s
   std::string message;         ///< why it failed or was cancelled
@@ -96,11 +104,18 @@ class RenderSession {
   uint64_t set_settings(const ViewSettings& settings);
 
   /// The newest frame once its id exceeds `after` (at once if `after` is
-  /// beyond the newest: a page from before a restart), else null after `timeout`.
+  /// beyond the newest: a page from before a restart), else null after
+  /// `timeout`, or at once when the session stops or a render fails meanwhile.
   std::shared_ptr<const Frame> frame_after(uint64_t after, std::chrono::milliseconds timeout) const;
+  /// Why the current view's render failed, or "" (it renders, or rendered).
+  std::string render_error() const;
+  /// stop() was called: no frame will come.
+  bool stopped() const;
 
-  /// Starts the Render button's job for the current view: "" or why not.
-  std::string start_job(const std::filesystem::path& png);
+  /// Starts the Render button's job for the current view: "" or why not. Its
+  /// files appear whole, once the view has all its samples, and only if the job
+  /// is still running then; with `replace` false, never over an existing file.
+  std::string start_job(const std::filesystem::path& png, bool replace = true);
   /// Cancels a running job (the view keeps rendering); false when none runs.
   bool cancel_job();
   RenderJob job() const;
@@ -116,6 +131,10 @@ class RenderSession {
   bool wait_for_work(std::unique_lock<std::mutex>& lock, const Progress& p, Step& step);
   void render_step(const Step& step, Progress& p);
   void write_job(const Progress& p);
+  /// After an exception in the step for `view`: log it, stop rendering the view until it changes, fail the job.
+  void fail_step(const View& view, Progress& p, const std::string& what);
+  /// full_frame_seconds_ when it was measured with settings of the same cost as `s`, else 0 (unknown).
+  double predicted_frame_seconds(const ViewSettings& s) const;
   uint64_t changed();  ///< under the lock: bump the version, cancel what is stale
 
   const Scene& scene_;
@@ -136,6 +155,10 @@ class RenderSession {
   bool starved_ = false;             ///< a view's first frame was cancelled since the last frame published
   double full_frame_seconds_ = 0;    ///< one sample per pixel at the view's size, as last measured (render thread)
   double seconds_per_sample_ = 0;    ///< the same, from the last full-resolution step (render thread)
+  ViewSettings measured_for_;        ///< the settings of those measurements (render thread)
+  std::string render_error_;         ///< why the render of view version error_version_ failed
+  uint64_t error_version_ = 0;
+  uint64_t failures_ = 0;  ///< renders failed (frame waiters return at each)
 
   std::atomic<bool> cancel_{false};
   std::atomic<uint64_t> chunks_after_cancel_{0};

@@ -20,6 +20,7 @@ struct RouteContext {
   RenderSession& session;
   const SceneBvh4& bvh;
   RouteConfig config;
+  int bvh_max_depth = -1;  ///< bvh4_max_depth, walked once (every node) rather than per request
 };
 
 /// Replies with `body` as JSON (200 unless `status` says otherwise).

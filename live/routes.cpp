@@ -3,11 +3,13 @@
 #include "routes.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <memory>
 #include <regex>
 
 #include "assets.h"
+#include "bvh/bvh4_inspect.h"
 #include "io/scene_error.h"
 #include "kernels/simd/isa.h"
 #include "request_params.h"
@@ -105,22 +107,23 @@ nlohmann::json job_json(const RenderJob& j) {
           {"message", j.message}};
 }
 
-/// Host must be one of `hosts` (when any are listed) and a POST must carry X-PT-Live.
+/// Host must be one of `hosts` (in any case) and a POST must carry X-PT-Live.
 httplib::Server::HandlerResponse guard(const RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+  auto refuse = [&res](int status, const std::string& why) {
+    reply_error(res, status, why);
+    res.set_header("Connection", "close");  // a body the request may carry is left unread
+    return httplib::Server::HandlerResponse::Handled;
+  };
   const auto& hosts = ctx.config.hosts;
-  std::string host = req.get_header_value("Host");
-  if (!hosts.empty() && std::find(hosts.begin(), hosts.end(), host) == hosts.end()) {
-    reply_error(res, 403, "Host \"" + host + "\" is not this server's address");
-    return httplib::Server::HandlerResponse::Handled;
-  }
-  if (req.method != "GET" && req.method != "HEAD" && req.method != "POST") {
-    reply_error(res, 405, "method " + req.method + " is not used here");
-    return httplib::Server::HandlerResponse::Handled;
-  }
-  if (req.method == "POST" && req.get_header_value("X-PT-Live") != "1") {
-    reply_error(res, 403, "a POST needs the header X-PT-Live: 1 (the page sends it)");
-    return httplib::Server::HandlerResponse::Handled;
-  }
+  const std::string host = req.get_header_value("Host");
+  std::string lower = host;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (std::find(hosts.begin(), hosts.end(), lower) == hosts.end())
+    return refuse(403, "Host \"" + host + "\" is not this server's address");
+  if (req.method != "GET" && req.method != "HEAD" && req.method != "POST")
+    return refuse(405, "method " + req.method + " is not used here");
+  if (req.method == "POST" && req.get_header_value("X-PT-Live") != "1")
+    return refuse(403, "a POST needs the header X-PT-Live: 1 (the page sends it)");
   return httplib::Server::HandlerResponse::Unhandled;
 }
 
@@ -150,6 +153,7 @@ void add_state_routes(httplib::Server& server, RouteContext& ctx) {
                          {"version", v.version},
                          {"settings_version", v.settings_version},
                          {"job", job_json(ctx.session.job())},
+                         {"render_error", ctx.session.render_error()},
                          {"counters",
                           {{"frames", n.frames},
                            {"passes_cancelled", n.passes_cancelled},
@@ -164,30 +168,52 @@ void add_state_routes(httplib::Server& server, RouteContext& ctx) {
 }
 
 /// GET /api/frame?after=N: the newest frame once newer than N, as
-/// [u32 little-endian length of the JSON][the JSON][width * height * 4 RGBA bytes]; 204 after the wait.
+/// [u32 little-endian length of the JSON][the JSON][width * height * 4 RGBA bytes]; 204 after the wait;
+/// 500 when the view's render failed; 503 once the server stops (the page then waits before asking again).
 void add_frame_route(httplib::Server& server, RouteContext& ctx) {
   server.Get("/api/frame", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
                RequestParams params(req.params, {"after"});
                uint64_t after = params.has("after") ? uint64_t(params.integer("after", 0, int64_t(1) << 53)) : 0;
                std::shared_ptr<const Frame> frame = ctx.session.frame_after(after, ctx.config.frame_wait);
+               if (ctx.session.stopped()) {
+                 res.set_header("Connection", "close");
+                 return reply_error(res, 503, "the server is stopping");
+               }
                if (!frame) {
+                 if (std::string why = ctx.session.render_error(); !why.empty())
+                   return reply_error(res, 500, "the render of this view failed: " + why);
                  res.status = 204;
                  return;
                }
-               std::string meta = frame_json(frame->info, ctx.session.view().settings_version).dump();
-               std::string body(4, '\0');
+               auto head = std::make_shared<std::string>(4, '\0');
+               const std::string meta = frame_json(frame->info, ctx.session.view().settings_version).dump();
                const uint32_t n = uint32_t(meta.size());
-               for (int i = 0; i < 4; ++i) body[i] = char((n >> (8 * i)) & 0xff);
-               body += meta;
-               body += frame->rgba();
-               res.set_content(body, "application/octet-stream");
+               for (int i = 0; i < 4; ++i) (*head)[i] = char((n >> (8 * i)) & 0xff);
+               *head += meta;
+               // The pixels are sent from the frame itself, not copied into the response.
+               const std::string& rgba = frame->rgba();
+               res.set_content_provider(
+                   head->size() + rgba.size(), "application/octet-stream",
+                   [head, frame](size_t offset, size_t length, httplib::DataSink& sink) {
+                     const std::string& pixels = frame->rgba();
+                     while (length > 0) {
+                       const bool in_head = offset < head->size();
+                       const char* from = in_head ? head->data() + offset : pixels.data() + (offset - head->size());
+                       const size_t part =
+                           std::min(length, in_head ? head->size() - offset : pixels.size() - (offset - head->size()));
+                       if (!sink.write(from, part)) return false;
+                       offset += part;
+                       length -= part;
+                     }
+                     return true;
+                   });
              }));
 }
 
 }  // namespace
 
 void add_routes(HttpServer& server, RenderSession& session, const SceneBvh4& bvh, const RouteConfig& config) {
-  auto ctx = std::make_shared<RouteContext>(RouteContext{session, bvh, config});
+  auto ctx = std::make_shared<RouteContext>(RouteContext{session, bvh, config, bvh4_max_depth(bvh.bvh())});
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
                               {"X-Frame-Options", "DENY"},
                               {"Referrer-Policy", "no-referrer"},
@@ -196,7 +222,7 @@ void add_routes(HttpServer& server, RenderSession& session, const SceneBvh4& bvh
                                "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
                                "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'none'"}});
   // The guard holds the context; the routes below use it by reference for as long as the server holds the guard.
-  server.set_pre_routing_handler(
+  server.set_request_guard(
       [ctx](const httplib::Request& req, httplib::Response& res) { return guard(*ctx, req, res); });
   server.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
     std::string what = "internal error";

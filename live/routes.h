@@ -21,7 +21,7 @@ struct RouteConfig {
   std::filesystem::path directory;    ///< where files a request names are written: the start directory
   std::filesystem::path camera_file;  ///< Save camera's file when the request names none
   std::filesystem::path image_file;   ///< Render's image when the request names none
-  std::vector<std::string> hosts;     ///< Host header values accepted; empty: any
+  std::vector<std::string> hosts;     ///< Host header values accepted, in lower case (accepted_hosts)
   std::string scene_name;
   std::chrono::milliseconds frame_wait{10000};  ///< the longest a frame request waits (then 204)
 };

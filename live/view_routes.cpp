@@ -61,8 +61,7 @@ void set_camera(RouteContext& ctx, const httplib::Request& req, httplib::Respons
   const float3 position = params.vector("position", kMaxCoordinate);
   const float3 target = params.vector("target", kMaxCoordinate);
   const NavLimits& limits = ctx.session.config().limits;
-  if (!(length(position - target) >= limits.min_r))
-    throw ParamError("position and target must be at least " + std::to_string(limits.min_r) + " apart");
+  if (std::string problem = look_at_problem(position, target, limits); !problem.empty()) throw ParamError(problem);
   RenderSession::View v = ctx.session.view();
   ViewCamera c = look_at(v.camera, position, target, limits);
   if (params.has("vfov")) {

@@ -89,13 +89,22 @@
     if (document.hidden && polling) polling.abort();
   });
 
-  // The next frame after `after`: the bytes, 'again' (none yet, or the tab was hidden) or 'lost'.
+  // The next frame after `after`: the bytes, 'again' (none yet, or the tab was hidden) or 'lost' (with
+  // the server's reason in frameError when it gave one: a failed render, a server stopping).
+  let frameError = '';
   async function fetchFrame(after) {
+    frameError = '';
     try {
       polling = new AbortController();
       const res = await fetch('/api/frame?after=' + after, {cache: 'no-store', signal: polling.signal});
       if (res.status === 204) return 'again';
-      return res.ok ? await res.arrayBuffer() : 'lost';
+      if (res.ok) return await res.arrayBuffer();
+      try {
+        frameError = (await res.json()).error || '';
+      } catch (e) {
+        frameError = '';
+      }
+      return 'lost';
     } catch (e) {
       return e.name === 'AbortError' ? 'again' : 'lost';
     }
@@ -108,7 +117,7 @@
       const buffer = await fetchFrame(after);
       if (buffer === 'again') continue;
       if (buffer === 'lost') {
-        showMessage('connection to the server lost; retrying', true);
+        showMessage(frameError ? frameError + '; retrying' : 'connection to the server lost; retrying', true);
         lost = true;
         await sleep(1000);
         continue;

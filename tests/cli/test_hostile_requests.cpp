@@ -5,8 +5,10 @@
 // oversized and stalled requests) gets a 4xx and exactly one log line on
 // stderr; the server keeps answering and the render keeps rendering
 // meanwhile; Ctrl-C ends it with exit code 0. Also the --serve flags that
-// must be refused before anything starts.
+// must be refused before anything starts, and a server on every address
+// that still answers only to this machine's names.
 #include <signal.h>
+#include <unistd.h>
 
 #include <thread>
 
@@ -98,7 +100,31 @@ std::vector<HostileRequest> hostile_requests() {
                 "\r\nX-PT-Live: 1\r\nContent-Type: text/plain\r\nContent-Length: 1000000\r\n\r\n" +
                 std::string(100000, 'x');
        },
-       413, "request body too large"},
+       413, "a body of 1000000 bytes is more than the 16384 taken"},
+      {"range_of_two_thousand_parts",
+       [](LiveServerProcess& s) {
+         std::string ranges = "bytes=0-";
+         while (ranges.size() < 7000) ranges += ",0-";
+         return s.request("GET", "/api/frame?after=0", "Range: " + ranges + "\r\n");
+       },
+       416, "a Range header is not accepted"},
+      {"chunked_body_past_the_limit",
+       [](LiveServerProcess& s) {
+         std::string chunks;
+         for (int i = 0; i < 30; ++i) chunks += "400\r\n" + std::string(1024, 'x') + "\r\n";
+         return "POST /api/nav?op=still HTTP/1.1\r\nHost: " + s.host +
+                "\r\nX-PT-Live: 1\r\nTransfer-Encoding: chunked\r\nConnection: close\r\n\r\n" + chunks + "0\r\n\r\n";
+       },
+       411, "Transfer-Encoding is not accepted"},
+      {"compressed_body",
+       [](LiveServerProcess& s) {
+         return "POST /api/nav?op=still HTTP/1.1\r\nHost: " + s.host +
+                "\r\nX-PT-Live: 1\r\nContent-Encoding: br\r\nContent-Length: 4\r\nConnection: close\r\n\r\nzzzz";
+       },
+       415, "Content-Encoding is not accepted"},
+      {"get_with_a_body",
+       [](LiveServerProcess& s) { return s.request("GET", "/api/state", "Content-Length: 4\r\n") + "abcd"; }, 400,
+       "a GET takes no body"},
   };
 }
 
@@ -127,23 +153,40 @@ TEST(HostileRequests, EachGetsA4xxAndOneLogLineAndTheRenderGoesOn) {
       if (!trickle.send(std::string(1, c))) break;
       else std::this_thread::sleep_for(milliseconds(400));
   });
-  // Meanwhile the server answers and the render follows a camera move.
+  // Meanwhile the server answers and the render follows a camera move: each frame request waits for a
+  // newer frame than the last one seen, until one shows the moved view (or 30 s pass).
   std::string moved = test::exchange(server.port, server.request("POST", "/api/nav?op=orbit&dx=20&dy=5"));
   ASSERT_EQ(test::status_of(moved), 200) << moved;
   const uint64_t version = nlohmann::json::parse(moved.substr(moved.find("\r\n\r\n") + 4))["version"];
   bool rendered = false;
-  for (int i = 0; i < 100 && !rendered; ++i) {
-    std::string state = test::exchange(server.port, server.request("GET", "/api/frame?after=0"));
-    std::string body = state.substr(state.find("\r\n\r\n") + 4);
+  uint64_t after = 0;
+  const auto deadline = std::chrono::steady_clock::now() + milliseconds(30000);
+  while (!rendered && std::chrono::steady_clock::now() < deadline) {
+    std::string reply = test::exchange(server.port, server.request("GET", "/api/frame?after=" + std::to_string(after)),
+                                       milliseconds(15000));
+    if (test::status_of(reply) == 204) continue;
+    ASSERT_EQ(test::status_of(reply), 200) << reply.substr(0, 300);
+    std::string body = reply.substr(reply.find("\r\n\r\n") + 4);
     uint32_t n = uint8_t(body[0]) | uint8_t(body[1]) << 8 | uint8_t(body[2]) << 16;
-    rendered = nlohmann::json::parse(body.substr(4, n))["version"] == version;
+    nlohmann::json meta = nlohmann::json::parse(body.substr(4, n));
+    after = meta["id"];
+    rendered = meta["version"] >= version;
   }
   EXPECT_TRUE(rendered) << "no frame of the moved view";
   EXPECT_EQ(test::status_of(line.read_all(milliseconds(10000))), 408);
   EXPECT_EQ(test::status_of(headers.read_all(milliseconds(10000))), 400);
   EXPECT_EQ(test::status_of(trickle.read_all(milliseconds(10000))), 408);
   trickler.join();
+  // Ctrl-C with an idle keep-alive connection and a frame request waiting: both end at once (they would
+  // hold the server 5 and 10 s).
+  test::Probe idle(server.port), waiting(server.port);
+  ASSERT_TRUE(idle.send("GET /api/state HTTP/1.1\r\nHost: " + server.host + "\r\n\r\n"));
+  ASSERT_TRUE(waiting.send("GET /api/frame?after=" + std::to_string(uint64_t(1) << 40) +
+                           "0 HTTP/1.1\r\nHost: " + server.host + "\r\n\r\n"));
+  std::this_thread::sleep_for(milliseconds(200));
+  const auto stopping = std::chrono::steady_clock::now();
   test::ProcessResult r = server.process.stop(SIGINT, milliseconds(30000));
+  EXPECT_LT(std::chrono::steady_clock::now() - stopping, milliseconds(3000));
   EXPECT_FALSE(r.timed_out);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("Live view stopped"), std::string::npos) << r.out;
@@ -165,6 +208,8 @@ TEST(HostileRequests, ServeFlagsAreCheckedBeforeAnythingStarts) {
              "error: --bind: expected an address such as 127.0.0.1, ::1 or 0.0.0.0, got \"a b\""},
         Case{{"--serve", "0", "-r", "8192", "4096"},
              "error: --serve: -r 8192 4096: the live view takes 16 to 4096 pixels a side and at most 4194304 pixels"},
+        Case{{"--serve", "0", "-r", "8192", "16"},
+             "error: --serve: -r 8192 16: the live view takes 16 to 4096 pixels a side and at most 4194304 pixels"},
         Case{{"--serve", "0", "--checkpoint", "c.bin"},
              "error: --serve: --checkpoint is for renders to a file, not the live view"},
         Case{{"--serve", "0", "--engine", "reference"},
@@ -187,6 +232,33 @@ TEST(HostileRequests, ServeFlagsAreCheckedBeforeAnythingStarts) {
             "error: --serve: cannot listen on 127.0.0.1:" + port + " (in use, or not an address of this machine)\n");
   EXPECT_EQ(first.stop(SIGTERM, milliseconds(30000)).exit_code, 0);
   EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(HostileRequests, AServerOnEveryAddressStillAnswersOnlyToThisMachinesNames) {
+  test::ScratchDir dir;
+  test::BackgroundProcess process(
+      PT_PATHTRACER_BINARY, {"--serve", "0", "--bind", "0.0.0.0", "-r", "16", "16", PT_DEFAULT_SCENE}, dir.path());
+  std::string line = process.wait_for_line("http://127.0.0.1:", milliseconds(30000));
+  ASSERT_NE(line.find("127.0.0.1:"), std::string::npos) << process.err();
+  const std::string port = std::to_string(std::atoi(line.c_str() + line.find("127.0.0.1:") + 10));
+  char name[256] = "";
+  ASSERT_EQ(gethostname(name, sizeof name - 1), 0);
+  auto status = [&](const std::string& host) {
+    return test::status_of(
+        test::exchange(std::stoi(port), "GET /api/state HTTP/1.1\r\nHost: " + host + "\r\nConnection: close\r\n\r\n"));
+  };
+  EXPECT_EQ(status("127.0.0.1:" + port), 200);
+  EXPECT_EQ(status("LOCALHOST:" + port), 200);
+  EXPECT_EQ(status(std::string(name) + ":" + port), 200);
+  // A name that an attacker's DNS points at this machine, or the right name on another port, is refused.
+  EXPECT_EQ(status("attacker.example:" + port), 403);
+  EXPECT_EQ(status("127.0.0.1:1"), 403);
+  EXPECT_EQ(status(""), 403);
+  test::ProcessResult r = process.stop(SIGINT, milliseconds(30000));
+  EXPECT_EQ(r.exit_code, 0);
+  std::vector<std::string> lines = test::lines_of(r.err);
+  EXPECT_EQ(lines.size(), 3u) << r.err;
+  for (const std::string& l : lines) EXPECT_EQ(l.rfind("live: 403 GET /api/state", 0), 0u) << l;
 }
 
 }  // namespace

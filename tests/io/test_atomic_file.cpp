@@ -1,6 +1,7 @@
 // Output files appear whole or not at all (io/atomic_file): exact contents,
 // no temporary file left behind on success or failure, a reader never sees a
-// half-written replacement, and check_writable() refuses what the write would
+// half-written replacement, a staged file published without replacing leaves
+// an existing file alone, and check_writable() refuses what the write would
 // refuse while leaving the directory as it was.
 #include <atomic>
 #include <fstream>
@@ -23,6 +24,24 @@ TEST(AtomicFile, WritesExactBytesAndNothingElse) {
   write_file_atomically(dir / "out.bin", bytes);
   EXPECT_EQ(test::file_bytes(dir / "out.bin"), bytes);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.bin"});
+}
+
+TEST(AtomicFile, AStagedFilePublishedWithoutReplacingLeavesAnExistingFileAlone) {
+  test::ScratchDir dir;
+  write_file_atomically(dir / "taken.txt", "mine");
+  {
+    StagedFile staged(dir / "taken.txt", "theirs");
+    EXPECT_FALSE(staged.publish(false));
+    StagedFile fresh(dir / "new.txt", "new");
+    EXPECT_TRUE(fresh.publish(false));
+  }
+  EXPECT_EQ(test::file_bytes(dir / "taken.txt"), "mine");
+  EXPECT_EQ(test::file_bytes(dir / "new.txt"), "new");
+  { StagedFile unpublished(dir / "never.txt", "x"); }
+  StagedFile replacing(dir / "taken.txt", "replaced");
+  EXPECT_TRUE(replacing.publish(true));
+  EXPECT_EQ(test::file_bytes(dir / "taken.txt"), "replaced");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"new.txt", "taken.txt"})) << "no temporary file is left";
 }
 
 TEST(AtomicFile, AReaderSeesTheOldOrTheNewFileNeverAMixture) {

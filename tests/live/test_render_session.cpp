@@ -190,6 +190,97 @@ TEST(RenderSession, AChangeCancelsTheRunningPassWithinOneWave) {
   EXPECT_LE(n.max_chunks_after_cancel, uint64_t(c.base.threads));
 }
 
+/// Counts the cancels of a session whose on_chunk moves the camera at the third chunk of the first render
+/// after arm() (64x48 with 12 chunks per sample), so that the passes it cancels can be counted.
+struct MoveAtThirdChunk {
+  RenderSession* session = nullptr;
+  std::atomic<bool> armed{false}, moved{false};
+  explicit MoveAtThirdChunk(SessionConfig& c) {
+    c.settings.width = c.base.width = 64;
+    c.settings.height = c.base.height = 48;
+    c.wave_paths = 256;
+    c.on_chunk = [this](uint64_t chunk) {
+      if (chunk == 3 && armed.load() && !moved.exchange(true)) session->navigate({NavInput::Kind::kOrbit, 5.0, 0.0});
+    };
+  }
+};
+
+TEST(RenderSession, AFirstFrameAfterASizeChangeIsNotExpectedAtTheOldSizesCostSoAMoveCancelsIt) {
+  SessionConfig c = config(4);
+  MoveAtThirdChunk mover(c);
+  c.frame_budget = 1e9;  // every frame measured so far is within the budget: let finish, were it not for the change
+  c.max_uncancelled_seconds = 1e9;
+  RenderSession session(cornell().scene(), cornell().bvh, c);
+  mover.session = &session;
+  ASSERT_TRUE(complete_frame(session, 1));
+  ViewSettings bigger = session.view().settings;
+  bigger.width = 128;  // four times the pixels, whose cost nothing measured yet
+  bigger.height = 96;
+  mover.armed.store(true);
+  const uint64_t resized = session.set_settings(bigger);
+  ASSERT_TRUE(complete_frame(session, resized + 1));
+  EXPECT_TRUE(mover.moved.load());
+  SessionCounters n = session.counters();
+  EXPECT_EQ(n.passes_cancelled, 1u) << "the resized view's first frame was let finish after the move";
+  EXPECT_LE(n.max_chunks_after_cancel, uint64_t(c.base.threads));
+}
+
+TEST(RenderSession, AFirstFrameExpectedBeyondTheCapIsCancelledEvenWithinTheBudget) {
+  SessionConfig c = config(4);
+  MoveAtThirdChunk mover(c);
+  c.frame_budget = 1e9;
+  c.max_uncancelled_seconds = 0.0;  // no frame is short enough to run uncancelled
+  RenderSession session(cornell().scene(), cornell().bvh, c);
+  mover.session = &session;
+  ASSERT_TRUE(complete_frame(session, 1));
+  mover.armed.store(true);
+  const uint64_t moved = session.navigate({NavInput::Kind::kOrbit, -5.0, 0.0});
+  ASSERT_TRUE(complete_frame(session, moved + 1));
+  EXPECT_TRUE(mover.moved.load());
+  SessionCounters n = session.counters();
+  EXPECT_EQ(n.passes_cancelled, 1u);
+  EXPECT_LE(n.max_chunks_after_cancel, uint64_t(c.base.threads));
+}
+
+TEST(RenderSession, AnExceptionInTheRenderIsLoggedReportedAndTheNextChangeRendersAgain) {
+  SessionConfig c = config(4);
+  std::mutex log_mutex;
+  std::vector<std::string> log;
+  c.log = [&](const std::string& line) {
+    std::lock_guard lock(log_mutex);
+    log.push_back(line);
+  };
+  std::atomic<bool> fail{false};
+  c.on_chunk = [&](uint64_t) {
+    if (fail.exchange(false)) throw std::bad_alloc();
+  };
+  RenderSession session(cornell().scene(), cornell().bvh, c);
+  std::shared_ptr<const Frame> first = complete_frame(session, 1);
+  ASSERT_TRUE(first);
+  test::ScratchDir dir;
+  fail.store(true);
+  const uint64_t failed = session.navigate({NavInput::Kind::kOrbit, 5.0, 0.0});
+  ASSERT_EQ(session.start_job(dir / "never.png"), "");
+  // A frame request waiting meanwhile returns at the failure, not after its wait.
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(session.frame_after(first->info.id, milliseconds(20000)));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, milliseconds(10000));
+  EXPECT_NE(session.render_error().find("bad_alloc"), std::string::npos) << session.render_error();
+  EXPECT_EQ(session.job().state, JobState::kFailed);
+  {
+    std::lock_guard lock(log_mutex);
+    ASSERT_EQ(log.size(), 1u);
+    EXPECT_EQ(log[0].rfind("live: the render of view " + std::to_string(failed) + " ", 0), 0u) << log[0];
+    EXPECT_NE(log[0].find("bad_alloc"), std::string::npos) << log[0];
+  }
+  // The failed view is not tried again in a loop; the next change renders.
+  EXPECT_FALSE(session.frame_after(first->info.id, milliseconds(200)));
+  const uint64_t next = session.navigate({NavInput::Kind::kOrbit, 5.0, 0.0});
+  ASSERT_TRUE(complete_frame(session, next));
+  EXPECT_EQ(session.render_error(), "");
+  EXPECT_TRUE(dir.entries().empty());
+}
+
 TEST(RenderSession, ACameraThatKeepsMovingKeepsProducingFramesEvenWhenTheyAreSlow) {
   FrameLog log;
   SessionConfig c = config(4);
@@ -219,14 +310,29 @@ TEST(RenderSession, ACameraThatKeepsMovingKeepsProducingFramesEvenWhenTheyAreSlo
 }
 
 TEST(RenderSession, TabsShareOneRender) {
-  RenderSession session(cornell().scene(), cornell().bvh, config(4));
+  // The second step (3 more samples) is held until both tabs have the first frame: both get that one.
+  SessionConfig c = config(4);
+  std::atomic<int> published{0}, received{0};
+  c.on_frame = [&](const FrameInfo&) { published.fetch_add(1); };
+  c.on_chunk = [&](uint64_t) {
+    for (int i = 0; i < 10000 && published.load() == 1 && received.load() < 2; ++i)
+      std::this_thread::sleep_for(milliseconds(1));
+  };
+  RenderSession session(cornell().scene(), cornell().bvh, c);
   std::shared_ptr<const Frame> a, b;
-  std::thread t1([&] { a = session.frame_after(0, milliseconds(10000)); });
-  std::thread t2([&] { b = session.frame_after(0, milliseconds(10000)); });
+  std::thread t1([&] {
+    a = session.frame_after(0, milliseconds(10000));
+    received.fetch_add(1);
+  });
+  std::thread t2([&] {
+    b = session.frame_after(0, milliseconds(10000));
+    received.fetch_add(1);
+  });
   t1.join();
   t2.join();
   ASSERT_TRUE(a && b);
-  if (a->info.id == b->info.id) { EXPECT_EQ(a.get(), b.get()) << "one frame object for both waiters"; }
+  EXPECT_EQ(a->info.id, 1u);
+  EXPECT_EQ(a.get(), b.get()) << "one frame object for both waiters";
   ASSERT_TRUE(complete_frame(session, 1));
   EXPECT_EQ(session.counters().frames, 2u) << "samples 1, 4: one render whoever watches";
   // A page from before a restart (its id beyond the newest) gets the newest at once.
@@ -290,16 +396,52 @@ TEST(RenderSession, ADiscreteMoveAccumulatesAtOnce) {
   for (const FrameInfo& f : log.of_version(v)) EXPECT_EQ(f.width, kW);
 }
 
+/// A session whose render waits at every chunk while `hold` is set.
+struct HeldSession {
+  std::atomic<bool> hold{true};
+  SessionConfig config;
+  std::unique_ptr<RenderSession> session;
+  explicit HeldSession(int samples) : config(live::config(samples)) {
+    config.on_chunk = [this](uint64_t) {
+      while (hold.load()) std::this_thread::sleep_for(milliseconds(1));
+    };
+    session = std::make_unique<RenderSession>(cornell().scene(), cornell().bvh, config);
+  }
+};
+
 TEST(RenderSession, AMoveCancelsTheRenderJobAndTheJobWritesNoFile) {
-  SessionConfig c = config(1 << 20);
-  RenderSession session(cornell().scene(), cornell().bvh, c);
+  HeldSession held(4);
+  RenderSession& session = *held.session;
   test::ScratchDir dir;
   ASSERT_EQ(session.start_job(dir / "never.png"), "");
   EXPECT_NE(session.start_job(dir / "other.png"), "") << "one job at a time";
-  session.navigate({NavInput::Kind::kZoom, 1.0});
+  const uint64_t moved = session.navigate({NavInput::Kind::kZoom, 1.0});
   EXPECT_EQ(session.job().state, JobState::kCancelled);
   EXPECT_EQ(session.job().message, "the view changed");
+  held.hold.store(false);
+  ASSERT_TRUE(complete_frame(session, moved));
+  std::this_thread::sleep_for(milliseconds(50));
   EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(RenderSession, ACancelledJobWritesNoFileWhenItsViewCompletes) {
+  HeldSession held(4);
+  RenderSession& session = *held.session;
+  test::ScratchDir dir;
+  ASSERT_EQ(session.start_job(dir / "never.png"), "");
+  EXPECT_TRUE(session.cancel_job());
+  EXPECT_EQ(session.job().state, JobState::kCancelled);
+  held.hold.store(false);
+  ASSERT_TRUE(complete_frame(session, 1));  // the job's view, complete: its file would be written now
+  std::this_thread::sleep_for(milliseconds(50));
+  EXPECT_EQ(session.job().state, JobState::kCancelled);
+  EXPECT_TRUE(dir.entries().empty());
+  // Not cancelled, the same job writes its file.
+  ASSERT_EQ(session.start_job(dir / "kept.png"), "");
+  for (int i = 0; i < 500 && session.job().state == JobState::kRendering; ++i)
+    std::this_thread::sleep_for(milliseconds(10));
+  EXPECT_EQ(session.job().state, JobState::kDone);
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"kept.png"}));
 }
 
 }  // namespace
