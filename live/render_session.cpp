@@ -129,7 +129,11 @@ uint64_t RenderSession::set_settings(const ViewSettings& settings) {
 std::shared_ptr<const Frame> RenderSession::frame_after(uint64_t after, std::chrono::milliseconds timeout) const {
   std::unique_lock lock(mutex_);
   const uint64_t failures = failures_;
-  auto ready = [&] { return stop_ || failures_ != failures || (latest_ && latest_->info.id != after); };
+  // A failure of the current view ends the wait too when it came before the request: no frame follows
+  // until the next change.
+  auto ready = [&] {
+    return stop_ || failures_ != failures || error_version_ == view_.version || (latest_ && latest_->info.id != after);
+  };
   frame_cv_.wait_for(lock, timeout, ready);
   return latest_ && latest_->info.id != after ? latest_ : nullptr;
 }
@@ -137,6 +141,8 @@ std::shared_ptr<const Frame> RenderSession::frame_after(uint64_t after, std::chr
 std::string RenderSession::start_job(const std::filesystem::path& png, bool replace) {
   std::lock_guard lock(mutex_);
   if (job_.state == JobState::kRendering) return "a render is already running (" + job_.path.string() + ")";
+  if (error_version_ == view_.version)
+    return "the render of this view failed (" + render_error_ + "); change the view to render again";
   job_ = RenderJob{JobState::kRendering, png, replace, view_.version, 0.0, {}};
   work_cv_.notify_all();
   return {};

@@ -105,7 +105,8 @@ class RenderSession {
 
   /// The newest frame once its id exceeds `after` (at once if `after` is
   /// beyond the newest: a page from before a restart), else null after
-  /// `timeout`, or at once when the session stops or a render fails meanwhile.
+  /// `timeout`, or at once when the session stops, a render fails meanwhile
+  /// or the current view's render has failed already.
   std::shared_ptr<const Frame> frame_after(uint64_t after, std::chrono::milliseconds timeout) const;
   /// Why the current view's render failed, or "" (it renders, or rendered).
   std::string render_error() const;
