@@ -59,6 +59,20 @@ struct AnyState {
   uint32_t stack[kBvh4StackSize];
 };
 
+/// Sets state s (closest or any hit) to walk ray r from node or leaf `from`
+/// under `tmax`, as walk `tag`, and starts loading `from`.
+template <class State>
+PT_ALWAYS_INLINE void begin_walk(const Bvh4& bvh, State& s, const Ray& r, uint32_t from, uint32_t tag, float tmax) {
+  s.nr = NodeRay(r);
+  s.br = decltype(s.br)(r);
+  s.tmin = vfloat4(r.tmin);
+  s.vtmax = vfloat4(tmax);
+  s.cur = from;
+  s.sp = s.stack;
+  s.ray = tag;
+  prefetch_target(bvh, from);
+}
+
 /// One closest-hit step of state s: one inner node, or one leaf and the pop
 /// after it. False when the ray's walk is over.
 template <TriangleForm F, class C>
@@ -152,15 +166,8 @@ inline void bvh4_intersect_interleaved(const Bvh4& bvh, Next&& next, Done&& done
       s.ray = kNoRay;
       return false;
     }
-    s.nr = NodeRay(r);
-    s.br = typename BlockTest<F>::RayConstants(r);
-    s.tmin = vfloat4(r.tmin);
     s.tmax = s.t_start = s.hit.t;
-    s.vtmax = vfloat4(s.tmax);
-    s.cur = from;
-    s.sp = s.stack;
-    s.ray = tag;
-    prefetch_target(bvh, from);
+    begin_walk(bvh, s, r, from, tag, s.tmax);
     return true;
   };
   int live = 0;
@@ -188,14 +195,7 @@ inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done,
       s.ray = kNoRay;
       return false;
     }
-    s.nr = NodeRay(r);
-    s.br = typename BlockTest<F>::RayConstants(r);
-    s.tmin = vfloat4(r.tmin);
-    s.vtmax = vfloat4(r.tmax);
-    s.cur = from;
-    s.sp = s.stack;
-    s.ray = tag;
-    prefetch_target(bvh, from);
+    begin_walk(bvh, s, r, from, tag, r.tmax);
     return true;
   };
   int live = 0;
