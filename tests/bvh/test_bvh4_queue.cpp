@@ -28,6 +28,14 @@ constexpr uint8_t kUnwritten = 7;
 
 size_t lanes() { return isa_lanes(active_isa()); }
 
+/// Gives every `stride`-th ray a tmin uniform in [0, 1.5) (seeded), so that
+/// it starts past its origin.
+void start_past_origin(std::vector<Ray>& rays, size_t stride, uint32_t seed) {
+  std::mt19937 rng(seed);
+  for (size_t i = 0; i < rays.size(); i += stride)
+    rays[i].tmin = std::uniform_real_distribution<float>(0.0f, 1.5f)(rng);
+}
+
 Scene built_in_scene() { return load_collada_file(project_scene("cornell_spheres.dae")).scene; }
 
 /// A queue of rays as arrays, with one entry of slack past the end on every
@@ -248,8 +256,7 @@ TEST(Bvh4Queue, LongQueuesWithTminInEveryPartMatchSingleRays) {
   SceneBvh4 bvh(s);
   QueueScratch scratch;
   std::vector<Ray> rays = uniform_random_rays(s, 9001, 18);
-  std::mt19937 rng(19);
-  for (size_t i = 0; i < rays.size(); i += 3) rays[i].tmin = std::uniform_real_distribution<float>(0.0f, 1.5f)(rng);
+  start_past_origin(rays, 3, 19);
   expect_queue_matches_single_rays(bvh, rays, scratch, "9001 rays with tmin > 0");
 }
 
@@ -279,8 +286,7 @@ TEST(Bvh4Queue, RaysThatStartPastTheirOriginMatchSingleRays) {
   SceneBvh4 bvh(s);
   QueueScratch scratch;
   std::vector<Ray> rays = uniform_random_rays(s, 3000, 12);
-  std::mt19937 rng(4);
-  for (size_t i = 0; i < rays.size(); i += 2) rays[i].tmin = std::uniform_real_distribution<float>(0.0f, 1.5f)(rng);
+  start_past_origin(rays, 2, 4);
   expect_queue_matches_single_rays(bvh, rays, scratch, "tmin > 0");
   int skipped = 0;  // some rays really do skip a nearer surface
   for (size_t i = 0; i < rays.size(); i += 2) {
