@@ -112,6 +112,8 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
   bvh.form = options.watertight ? TriangleForm::kWatertight : TriangleForm::kMollerTrumbore;
   SahBuildOptions sah = options.sah;
   CollapseCosts collapse = options.collapse;
+  if (options.l1_resident_block_cost > 0.0f && triangles.size() <= kL1ResidentTriangles)
+    collapse.block = options.l1_resident_block_cost;
   sah.max_leaf_size = std::clamp<uint32_t>(sah.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
   collapse.max_leaf_size = std::clamp<uint32_t>(collapse.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
   Bvh4Topology topo;

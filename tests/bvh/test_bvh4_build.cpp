@@ -1,7 +1,8 @@
 // The builders' invariants: the SAH binary BVH is a valid hierarchy over a
 // permutation of the inputs with bounded depth; the 4-wide collapse holds every
 // triangle exactly once in precomputed blocks under boxes that contain it; the
-// build is the same byte for byte on 1 and 2 threads; statistics add up.
+// build is the same byte for byte on 1 and 2 threads; statistics add up; a
+// tree that fits in L1 is collapsed with its own block cost.
 #include <cstring>
 #include <functional>
 #include <random>
@@ -202,6 +203,34 @@ TEST(Bvh4Build, SameTreeOnOneAndTwoThreads) {
     EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Bvh4Node)), 0);
     EXPECT_EQ(std::memcmp(a.blocks.data(), b.blocks.data(), a.blocks.size() * sizeof(TriangleBlock4)), 0);
   }
+}
+
+bool same_tree(const Bvh4& a, const Bvh4& b) {
+  return a.root == b.root && a.nodes.size() == b.nodes.size() && a.blocks.size() == b.blocks.size() &&
+         std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(Bvh4Node)) == 0 &&
+         std::memcmp(a.blocks.data(), b.blocks.data(), a.blocks.size() * sizeof(TriangleBlock4)) == 0;
+}
+
+TEST(Bvh4Build, ATreeThatFitsInL1IsCollapsedWithItsOwnBlockCost) {
+  Bvh4Options fixed;  // collapse.block for every scene
+  fixed.l1_resident_block_cost = 0.0f;
+  Bvh4Options l1_costs = fixed;
+  l1_costs.collapse.block = Bvh4Options{}.l1_resident_block_cost;
+
+  Scene small = tessellated_sphere(2, {0, 0, 0}, 1.0f);  // 320 triangles
+  ASSERT_LE(small.triangles.size(), kL1ResidentTriangles);
+  Bvh4BuildStats by_default, by_fixed;
+  Bvh4 tree = build_bvh4(small.positions, small.triangles, {}, &by_default);
+  EXPECT_TRUE(same_tree(tree, build_bvh4(small.positions, small.triangles, l1_costs)));
+  EXPECT_FALSE(same_tree(tree, build_bvh4(small.positions, small.triangles, fixed, &by_fixed)));
+  // Dearer blocks, smaller leaves: more of them, fewer triangles per leaf.
+  EXPECT_GT(by_default.leaves, by_fixed.leaves);
+  expect_valid_bvh4(tree, small, static_cast<uint32_t>(small.triangles.size()));
+
+  Scene large = tessellated_sphere(3, {0, 0, 0}, 1.0f);  // 1280 triangles
+  ASSERT_GT(large.triangles.size(), kL1ResidentTriangles);
+  EXPECT_TRUE(same_tree(build_bvh4(large.positions, large.triangles, {}),
+                        build_bvh4(large.positions, large.triangles, fixed)));
 }
 
 }  // namespace
