@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
+#include <xsimd/memory/xsimd_aligned_allocator.hpp>
 
 namespace pt::bench {
 namespace {
@@ -67,13 +68,17 @@ Hit to_hit(float t, float u, float v, unsigned geom, unsigned prim) {
   return geom == RTC_INVALID_GEOMETRY_ID ? Hit{t, 0.0f, 0.0f, kInvalidId} : Hit{t, u, v, prim};
 }
 
+/// Arrays on 64-byte lines, as the queue tracer's input in trace_rays.
+template <class T>
+using LineAlignedVector = std::vector<T, xsimd::aligned_allocator<T, 64>>;
+
 /// Per-thread working copies: Embree writes its answers into the rays.
 struct Scratch {
   std::vector<RTCRayHit> records;
-  std::vector<float> f[9];                 // org x y z, tnear, dir x y z, tfar; time
-  std::vector<unsigned> mask, id, flags;   // ray
-  std::vector<float> ng[3], u, v;          // hit
-  std::vector<unsigned> prim, geom, inst;  // hit
+  LineAlignedVector<float> f[9];                 // org x y z, tnear, dir x y z, tfar; time
+  LineAlignedVector<unsigned> mask, id, flags;   // ray
+  LineAlignedVector<float> ng[3], u, v;          // hit
+  LineAlignedVector<unsigned> prim, geom, inst;  // hit
 
   RTCRayHitNp arrays(const EmbreeRays& rays, size_t b, size_t n) {
     for (int k = 0; k < 8; ++k) f[k].assign(rays.arrays[k].begin() + b, rays.arrays[k].begin() + b + n);

@@ -6,6 +6,9 @@
 #   bash scripts/bench.sh render [REPS] [flags]                 whole renders by engine, REPS interleaved runs (3)
 #   bash scripts/bench.sh levels [REPS] [SCENE_REGEX]           both at every SIMD level this CPU runs
 #   bash scripts/bench.sh dispatch [REPS]                       dispatched binary against single-level builds
+#   bash scripts/bench.sh rayfiles [ROUNDS] [SCENE_REGEX]       trace_rays on exported ray files (camera, bounce and
+#                                                               shadow rays in render order), the queue tracer against
+#                                                               every Embree method, 1 thread, at every level, ROUNDS (2)
 # The kernels run at the level PT_ISA names (default: the widest this CPU runs),
 # Embree restricted to the same instruction set.
 set -euo pipefail
@@ -71,7 +74,26 @@ case "$command" in
       done
     done
     $tables dispatch "${levels[@]}" | tee out/dispatch/table.md ;;
+  rayfiles)
+    rounds=${1:-2} scenes=${2:-'CBbunny|CBcoil|CBgems|bunny|teapot|CBbunny_x16|CBbunny_x64'}
+    build bench_trace trace_rays pathtracer
+    mkdir -p out/rayfiles
+    [ -f out/rayfiles/rays/CBbunny.tris ] || ./build/bench/bench_trace --export-rays out/rayfiles/rays > /dev/null
+    mapfile -t levels < <(levels_this_cpu | grep -v sse4.2)
+    mapfile -t files < <(ls out/rayfiles/rays/*.tris | xargs -n1 basename | sed 's/\.tris$//' | grep -E "^($scenes)\$")
+    for ((r = 0; r < rounds; ++r)); do  # rounds interleave the levels, so that load that comes and goes hits both
+      for level in "${levels[@]}"; do
+        for scene in "${files[@]}"; do
+          for set in primary diffuse shadow; do
+            occluded=(); [ "$set" = shadow ] && occluded=(--occluded)
+            PT_ISA=$level ./build/bench/trace_rays "out/rayfiles/rays/$scene.tris" "out/rayfiles/rays/${scene}_$set.rays" \
+              "${occluded[@]}" --embree --threads 1 > "out/rayfiles/${level}_${scene}_${set}_$r.jsonl"
+          done
+        done
+      done
+    done
+    $tables rayfiles | tee out/rayfiles/table.md ;;
   *)
-    sed -n '2,10p' "$0" >&2
+    sed -n '2,13p' "$0" >&2
     exit 2 ;;
 esac

@@ -6,6 +6,8 @@
     bench_tables.py render [out/bench_render.json]  bench_render: wall time, samples and rays per second by engine
     bench_tables.py levels LEVEL...                 bench.sh levels: both at every level (reads out/levels/)
     bench_tables.py dispatch LEVEL...               bench.sh dispatch: dispatched / single-level render time
+    bench_tables.py rayfiles [DIR]                  bench.sh rayfiles: trace_rays' queue tracer against Embree's
+                                                    best method per level, scene and ray file (out/rayfiles/)
 """
 import glob
 import json
@@ -214,7 +216,37 @@ def dispatch_main(*levels):
             print(f"| {level} | {engine} | {d:.3f} | {s:.3f} | {d / s:.3f} |")
 
 
-COMMANDS = {"trace": trace_main, "render": render_main, "levels": levels_main, "dispatch": dispatch_main}
+def rayfiles_main(directory="out/rayfiles"):
+    """Medians over the rounds of each method's 1-thread rate; the ratio is
+    the queue tracer's median over Embree's best median."""
+    rates = defaultdict(lambda: defaultdict(list))  # (level, scene, set) -> method -> Mrays/s per round
+    name = re.compile(r"^(?P<level>[^_]+)_(?P<scene>.+)_(?P<set>primary|diffuse|shadow)_\d+\.jsonl$")
+    for path in sorted(glob.glob(f"{directory}/*.jsonl")):
+        m = name.match(path.rsplit("/", 1)[-1])
+        if not m:
+            continue
+        for line in open(path):
+            if line.startswith("{"):
+                d = json.loads(line)
+                if d["threads"] == 1:
+                    rates[(m["level"], m["scene"], m["set"])][d["method"]].append(d["mrays_per_s"])
+    print("| level | scene | rays | queue tracer Mrays/s | Embree's best Mrays/s (method) | ratio | rounds |")
+    print("|---|---|---|---|---|---|---|")
+    order = {"primary": 0, "diffuse": 1, "shadow": 2}
+    for (level, scene, kind), methods in sorted(rates.items(), key=lambda i: (i[0][0], i[0][1], order[i[0][2]])):
+        if "queue" not in methods:
+            continue
+        ours = statistics.median(methods["queue"])
+        embree = {k: statistics.median(v) for k, v in methods.items() if k.startswith("embree")}
+        if not embree:
+            continue
+        top = max(embree, key=embree.get)
+        print(f"| {level} | {scene} | {kind} | {ours:.1f} | {embree[top]:.1f} ({top.removeprefix('embree_')}) "
+              f"| {ours / embree[top]:.2f} | {len(methods['queue'])} |")
+
+
+COMMANDS = {"trace": trace_main, "render": render_main, "levels": levels_main, "dispatch": dispatch_main,
+            "rayfiles": rayfiles_main}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in COMMANDS:
