@@ -229,8 +229,8 @@ TEST(Bvh4Build, ATreeThatFitsInL1IsCollapsedWithItsOwnBlockCost) {
 
   Scene large = tessellated_sphere(3, {0, 0, 0}, 1.0f);  // 1280 triangles
   ASSERT_GT(large.triangles.size(), kL1ResidentTriangles);
-  EXPECT_TRUE(same_tree(build_bvh4(large.positions, large.triangles, {}),
-                        build_bvh4(large.positions, large.triangles, fixed)));
+  EXPECT_TRUE(
+      same_tree(build_bvh4(large.positions, large.triangles, {}), build_bvh4(large.positions, large.triangles, fixed)));
 }
 
 }  // namespace
