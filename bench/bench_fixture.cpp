@@ -88,7 +88,7 @@ int SceneFixture::set_index(const std::string& name) const {
 }
 
 RayArrays SceneFixture::arrays(int set, size_t b, size_t e) const {
-  const std::array<std::vector<float>, 8>& a = arrays_[set];
+  const std::array<LineAlignedVector<float>, 8>& a = arrays_[set];
   RayArrays r;
   for (int k = 0; k < 3; ++k) {
     r.org[k] = a[k].data() + b;
@@ -130,8 +130,8 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
 
 void SceneFixture::add_queue_tracer() {
   for (const RaySet& set : sets_) {
-    std::array<std::vector<float>, 8>& a = arrays_.emplace_back();
-    for (std::vector<float>& f : a) f.resize(set.rays.size());
+    std::array<LineAlignedVector<float>, 8>& a = arrays_.emplace_back();
+    for (LineAlignedVector<float>& f : a) f.resize(set.rays.size());
     for (size_t i = 0; i < set.rays.size(); ++i) {
       const Ray& r = set.rays[i];
       const float f[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
@@ -141,8 +141,8 @@ void SceneFixture::add_queue_tracer() {
   // The queue tracer writes its hits as arrays (its output): into the set's
   // arrays, which become Hit records only for validation.
   for (const RaySet& set : sets_) {
-    std::array<std::vector<float>, 3>& h = queue_hits_.emplace_back();
-    for (std::vector<float>& f : h) f.resize(set.rays.size());
+    std::array<LineAlignedVector<float>, 3>& h = queue_hits_.emplace_back();
+    for (LineAlignedVector<float>& f : h) f.resize(set.rays.size());
     queue_prims_.emplace_back(set.rays.size());
   }
   auto scratch = std::make_shared<tbb::enumerable_thread_specific<QueueScratch>>();
@@ -156,7 +156,7 @@ void SceneFixture::add_queue_tracer() {
           if (s.occlusion) {
             bvh4_->occluded(rays, blocked + qb, scratch->local());
           } else {
-            std::array<std::vector<float>, 3>& h = queue_hits_[set];
+            std::array<LineAlignedVector<float>, 3>& h = queue_hits_[set];
             bvh4_->intersect(
                 rays, HitArrays{h[0].data() + qb, h[1].data() + qb, h[2].data() + qb, queue_prims_[set].data() + qb},
                 scratch->local());
@@ -165,7 +165,7 @@ void SceneFixture::add_queue_tracer() {
         }
       }};
   queue.collect = [this](int set, size_t b, size_t e, Hit* hits) {
-    const std::array<std::vector<float>, 3>& h = queue_hits_[set];
+    const std::array<LineAlignedVector<float>, 3>& h = queue_hits_[set];
     for (size_t i = b; i < e; ++i) hits[i] = Hit{h[0][i], h[1][i], h[2][i], queue_prims_[set][i]};
   };
   tracers_.push_back(queue);

@@ -15,6 +15,7 @@
 #include "bvh/scene_bvh2.h"
 #include "bvh/scene_bvh4.h"
 #include "incoherent_batch.h"
+#include "line_aligned_vector.h"
 #include "kernels/scene/scene.h"
 #include "ray_sets.h"
 #ifdef PT_HAVE_EMBREE
@@ -110,9 +111,9 @@ class SceneFixture {
   std::string label_;
   Scene scene_;
   std::vector<RaySet> sets_;
-  std::vector<std::array<std::vector<float>, 8>> arrays_;      ///< per set: ox, oy, oz, tmin, dx, dy, dz, tmax
-  std::vector<std::array<std::vector<float>, 3>> queue_hits_;  ///< per set: the queue tracer's t, u, v
-  std::vector<std::vector<uint32_t>> queue_prims_;             ///< and its primitives
+  std::vector<std::array<LineAlignedVector<float>, 8>> arrays_;      ///< per set: ox, oy, oz, tmin, dx, dy, dz, tmax
+  std::vector<std::array<LineAlignedVector<float>, 3>> queue_hits_;  ///< per set: the queue tracer's t, u, v
+  std::vector<LineAlignedVector<uint32_t>> queue_prims_;             ///< and its primitives
   std::vector<std::vector<Hit>> oracle_hits_;
   std::vector<std::vector<uint8_t>> oracle_blocked_;
   std::unique_ptr<SceneBvh4> bvh4_, bvh4_watertight_;

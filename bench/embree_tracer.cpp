@@ -7,7 +7,8 @@
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
-#include <xsimd/memory/xsimd_aligned_allocator.hpp>
+
+#include "line_aligned_vector.h"
 
 namespace pt::bench {
 namespace {
@@ -67,10 +68,6 @@ void fill_packets(const RaySet& set, std::vector<Packet>& out, std::vector<size_
 Hit to_hit(float t, float u, float v, unsigned geom, unsigned prim) {
   return geom == RTC_INVALID_GEOMETRY_ID ? Hit{t, 0.0f, 0.0f, kInvalidId} : Hit{t, u, v, prim};
 }
-
-/// Arrays on 64-byte lines, as the queue tracer's input in trace_rays.
-template <class T>
-using LineAlignedVector = std::vector<T, xsimd::aligned_allocator<T, 64>>;
 
 /// Per-thread working copies: Embree writes its answers into the rays.
 struct Scratch {

@@ -30,13 +30,13 @@
 
 #include <CLI/CLI.hpp>
 #include <oneapi/tbb/enumerable_thread_specific.h>
-#include <xsimd/memory/xsimd_aligned_allocator.hpp>
 
 #include "bvh/scene_bvh4.h"
 #include "io/scene_error.h"
 #ifdef PT_HAVE_EMBREE
 #include "embree_tracer.h"
 #endif
+#include "line_aligned_vector.h"
 #include "ray_driver.h"
 #include "io/ray_files.h"
 
@@ -44,12 +44,10 @@ namespace {
 
 using namespace pt;
 
-/// Arrays on 64-byte lines, as the wavefront's queues are: with the 16-byte
-/// offset of plain vectors, the queue tracer's AVX2 rate on one ray file
-/// changed from run to run by up to 30% (teapot's shadow rays: 11.5-16.0
-/// Mrays/s, against 16.0-16.2 aligned).
-template <class T>
-using LineAlignedVector = std::vector<T, xsimd::aligned_allocator<T, 64>>;
+/// The rays on 64-byte lines (in one series of runs, teapot's shadow rays at
+/// AVX2 varied 11.5-16.0 Mrays/s from plain vectors and 16.0-16.2 from these;
+/// later runs of these measured 12.5, so the layout is not all of that spread).
+using bench::LineAlignedVector;
 
 /// The rays as arrays (the queue tracer's input), and its outputs.
 struct Queues {

@@ -112,8 +112,6 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
   bvh.form = options.watertight ? TriangleForm::kWatertight : TriangleForm::kMollerTrumbore;
   SahBuildOptions sah = options.sah;
   CollapseCosts collapse = options.collapse;
-  if (options.l1_resident_block_cost > 0.0f && triangles.size() <= kL1ResidentTriangles)
-    collapse.block = options.l1_resident_block_cost;
   sah.max_leaf_size = std::clamp<uint32_t>(sah.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
   collapse.max_leaf_size = std::clamp<uint32_t>(collapse.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);
   Bvh4Topology topo;
@@ -140,6 +138,8 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
     if (refs.triangle.size() > kMaxBvh4References)
       throw std::length_error("BVH4: " + std::to_string(refs.triangle.size()) +
                               " build references, more than the 32-bit node and block offsets address");
+    if (options.l1_resident_block_cost > 0.0f && refs.triangle.size() <= kL1ResidentTriangles)
+      collapse.block = options.l1_resident_block_cost;  // the tree sits in L1 (Bvh4Options)
     Bvh2 bvh2 = build_bvh2_sah(refs.boxes, refs.centers, sah);
     // Only pre-split fragments can repeat a triangle in a leaf.
     std::span<const uint32_t> fragment_key =

@@ -15,9 +15,10 @@
 
 namespace pt {
 
-/// Scenes of at most this many triangles make a tree (about 48 bytes per
-/// triangle) that sits in a 32 KiB L1 data cache.
-inline constexpr size_t kL1ResidentTriangles = 32 * 1024 / 48;
+/// Scenes of at most this many triangles (build references) make a tree that
+/// fits in a 32 KiB L1 data cache, even at the 56 bytes per triangle of the
+/// smaller leaves the L1 block cost makes (CBgems: 54.9).
+inline constexpr size_t kL1ResidentTriangles = 32 * 1024 / 56;
 
 /// The defaults (tuned with bench_trace on the CS184 scenes): a binary tree
 /// down to single primitives, so that the collapse picks the leaves (up to 16
@@ -27,14 +28,19 @@ inline constexpr size_t kL1ResidentTriangles = 32 * 1024 / 48;
 /// mean extent (path-tracing bounce and shadow rays). A tree that sits in L1
 /// (kL1ResidentTriangles) waits for no node, so there a block costs 0.6 of a
 /// node visit: smaller leaves (CBgems: 13 -> 2.3 triangles and 1.4 -> 2.9
-/// nodes per shadow ray, 1.4-1.8x the rays per second).
+/// nodes per shadow ray; 1.4-1.8x the shadow rays per second, 1.1-1.3x the
+/// others).
 struct Bvh4Options {
   int threads = 0;          ///< build threads; 0: all available
   bool watertight = false;  ///< leaves for the watertight test instead of Moller-Trumbore
   SahBuildOptions sah{.bins = 32, .max_leaf_size = 1, .leaf_block = 4, .traversal_cost = 1.0f, .ray_length = 0.5f};
+  /// The collapse's costs. In a scene of at most kL1ResidentTriangles build
+  /// references, l1_resident_block_cost (when not 0) replaces `block`: set it
+  /// to 0 for `block` to hold in every scene.
   CollapseCosts collapse{.node = 1.0f, .leaf = 0.7f, .block = 0.3f, .max_leaf_size = 16, .ray_length = 0.5f};
-  /// collapse.block for scenes of at most kL1ResidentTriangles triangles; 0:
-  /// collapse.block for every scene.
+  /// collapse.block for scenes of at most kL1ResidentTriangles build
+  /// references (the triangles that enter the tree, plus pre-split
+  /// fragments); 0: collapse.block for every scene.
   float l1_resident_block_cost = 0.6f;
   /// Extra build references per triangle that pre-splitting may add (presplit.h); 0: none.
   float presplit_budget = 0.0f;

@@ -6,9 +6,10 @@
 #   bash scripts/bench.sh render [REPS] [flags]                 whole renders by engine, REPS interleaved runs (3)
 #   bash scripts/bench.sh levels [REPS] [SCENE_REGEX]           both at every SIMD level this CPU runs
 #   bash scripts/bench.sh dispatch [REPS]                       dispatched binary against single-level builds
-#   bash scripts/bench.sh rayfiles [ROUNDS] [SCENE_REGEX]       trace_rays on exported ray files (camera, bounce and
+#   bash scripts/bench.sh rayfiles [ROUNDS] [SCENE_REGEX]       trace_rays on exported ray files (camera, diffuse and
 #                                                               shadow rays in render order), the queue tracer against
-#                                                               every Embree method, 1 thread, at every level, ROUNDS (2)
+#                                                               every Embree method, 1 thread, at each level from AVX2
+#                                                               up (NEON on Arm), ROUNDS (2)
 # The kernels run at the level PT_ISA names (default: the widest this CPU runs),
 # Embree restricted to the same instruction set.
 set -euo pipefail
@@ -78,9 +79,16 @@ case "$command" in
     rounds=${1:-2} scenes=${2:-'CBbunny|CBcoil|CBgems|bunny|teapot|CBbunny_x16|CBbunny_x64'}
     build bench_trace trace_rays pathtracer
     mkdir -p out/rayfiles
-    [ -f out/rayfiles/rays/CBbunny.tris ] || ./build/bench/bench_trace --export-rays out/rayfiles/rays > /dev/null
-    mapfile -t levels < <(levels_this_cpu | grep -v sse4.2)
-    mapfile -t files < <(ls out/rayfiles/rays/*.tris | xargs -n1 basename | sed 's/\.tris$//' | grep -E "^($scenes)\$")
+    # bench_trace writes every scene's files and then .complete; an interrupted export is redone.
+    if [ ! -f out/rayfiles/rays/.complete ]; then
+      ./build/bench/bench_trace --export-rays out/rayfiles/rays > /dev/null
+      touch out/rayfiles/rays/.complete
+    fi
+    mapfile -t levels < <(levels_this_cpu | grep -v -x sse4.2 || true)
+    mapfile -t files < <(ls out/rayfiles/rays/ | sed -n 's/\.tris$//p' | grep -E -x "$scenes" || true)
+    ((${#levels[@]})) || { echo "bench.sh rayfiles: no SIMD level to run" >&2; exit 1; }
+    ((${#files[@]})) || { echo "bench.sh rayfiles: no exported scene matches '$scenes'" >&2; exit 1; }
+    rm -f out/rayfiles/*.jsonl  # the table is of this run only
     for ((r = 0; r < rounds; ++r)); do  # rounds interleave the levels, so that load that comes and goes hits both
       for level in "${levels[@]}"; do
         for scene in "${files[@]}"; do
@@ -94,6 +102,6 @@ case "$command" in
     done
     $tables rayfiles | tee out/rayfiles/table.md ;;
   *)
-    sed -n '2,13p' "$0" >&2
+    sed -n '2,14p' "$0" >&2
     exit 2 ;;
 esac

@@ -211,26 +211,41 @@ bool same_tree(const Bvh4& a, const Bvh4& b) {
          std::memcmp(a.blocks.data(), b.blocks.data(), a.blocks.size() * sizeof(TriangleBlock4)) == 0;
 }
 
+/// The first n triangles of a 1280-triangle sphere.
+Scene sphere_part(size_t n) {
+  Scene s = tessellated_sphere(3, {0, 0, 0}, 1.0f);
+  s.triangles.resize(n);
+  return s;
+}
+
 TEST(Bvh4Build, ATreeThatFitsInL1IsCollapsedWithItsOwnBlockCost) {
   Bvh4Options fixed;  // collapse.block for every scene
   fixed.l1_resident_block_cost = 0.0f;
   Bvh4Options l1_costs = fixed;
   l1_costs.collapse.block = Bvh4Options{}.l1_resident_block_cost;
+  auto build = [](const Scene& s, const Bvh4Options& o, Bvh4BuildStats* stats = nullptr) {
+    return build_bvh4(s.positions, s.triangles, o, stats);
+  };
 
-  Scene small = tessellated_sphere(2, {0, 0, 0}, 1.0f);  // 320 triangles
-  ASSERT_LE(small.triangles.size(), kL1ResidentTriangles);
+  // At the bound: the L1 cost, and a different tree from the one the other cost makes.
+  Scene small = sphere_part(kL1ResidentTriangles);
   Bvh4BuildStats by_default, by_fixed;
-  Bvh4 tree = build_bvh4(small.positions, small.triangles, {}, &by_default);
-  EXPECT_TRUE(same_tree(tree, build_bvh4(small.positions, small.triangles, l1_costs)));
-  EXPECT_FALSE(same_tree(tree, build_bvh4(small.positions, small.triangles, fixed, &by_fixed)));
-  // Dearer blocks, smaller leaves: more of them, fewer triangles per leaf.
-  EXPECT_GT(by_default.leaves, by_fixed.leaves);
+  Bvh4 tree = build(small, {}, &by_default);
+  EXPECT_TRUE(same_tree(tree, build(small, l1_costs)));
+  EXPECT_FALSE(same_tree(tree, build(small, fixed, &by_fixed)));
+  EXPECT_GT(by_default.leaves, by_fixed.leaves);  // dearer blocks, smaller leaves
   expect_valid_bvh4(tree, small, static_cast<uint32_t>(small.triangles.size()));
 
-  Scene large = tessellated_sphere(3, {0, 0, 0}, 1.0f);  // 1280 triangles
-  ASSERT_GT(large.triangles.size(), kL1ResidentTriangles);
-  EXPECT_TRUE(
-      same_tree(build_bvh4(large.positions, large.triangles, {}), build_bvh4(large.positions, large.triangles, fixed)));
+  // The option's value, not a constant.
+  Bvh4Options other_l1 = {}, other_fixed = fixed;
+  other_l1.l1_resident_block_cost = other_fixed.collapse.block = 0.45f;
+  EXPECT_TRUE(same_tree(build(small, other_l1), build(small, other_fixed)));
+
+  // One triangle past the bound: the usual cost, where the L1 cost would make another tree.
+  Scene large = sphere_part(kL1ResidentTriangles + 1);
+  Bvh4 usual = build(large, {});
+  EXPECT_TRUE(same_tree(usual, build(large, fixed)));
+  EXPECT_FALSE(same_tree(usual, build(large, l1_costs)));
 }
 
 }  // namespace
