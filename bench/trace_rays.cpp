@@ -44,9 +44,6 @@ namespace {
 
 using namespace pt;
 
-/// The rays on 64-byte lines (in one series of runs, teapot's shadow rays at
-/// AVX2 varied 11.5-16.0 Mrays/s from plain vectors and 16.0-16.2 from these;
-/// later runs of these measured 12.5, so the layout is not all of that spread).
 using bench::LineAlignedVector;
 
 /// The rays as arrays (the queue tracer's input), and its outputs.
