@@ -33,9 +33,12 @@ RenderOutput render_wavefront(const Scene& scene, const Camera& camera, const Re
     StageStats& ss = stages.local();
     run_wave(ctx, tracer, pixels, first, len, options, b, ss);
     StageTimer t(ss, Stage::kAccumulate);
-    for (size_t i = 0; i < b.paths.size; ++i) {
-      float3 L{b.paths.radiance_r[i], b.paths.radiance_g[i], b.paths.radiance_b[i]};
-      if (!px.at(pixels[i / len]).add(L)) ++stats.invalid_samples;
+    for (size_t p = 0, i = 0; i < b.paths.size; ++p) {  // path i <-> pixel i / len, in path order
+      PixelAccumulator& pixel = px.at(pixels[p]);
+      for (const size_t end = i + len; i < end; ++i) {
+        float3 L{b.paths.radiance_r[i], b.paths.radiance_g[i], b.paths.radiance_b[i]};
+        if (!pixel.add(L)) ++stats.invalid_samples;
+      }
     }
     stats.samples += b.paths.size;
   };

@@ -20,7 +20,7 @@ struct RayArrays {
   const float* tmax = nullptr;
   size_t size = 0;
 
-  Ray ray(size_t i) const {
+  [[gnu::always_inline]] Ray ray(size_t i) const {
     return {{org[0][i], org[1][i], org[2][i]}, tmin ? tmin[i] : 0.0f, {dir[0][i], dir[1][i], dir[2][i]}, tmax[i]};
   }
 };
