@@ -43,7 +43,7 @@ struct TracerEntry {
   /// For tracers whose own output is not Hit records (the queue tracer's
   /// arrays): turns the last trace of rays [begin, end) of a set into Hit
   /// records, for validation only (outside the timed loop).
-  std::function<void(int set, size_t begin, size_t end, Hit* hits)> collect;
+  std::function<void(int set, size_t begin, size_t end, Hit* hits)> collect{};
   bool coherent_only = false;  ///< packets of coherent rays: the primary set only
   size_t max_rays = SIZE_MAX;  ///< traces only this prefix of a set
   bool whole_set = false;      ///< called once per set inside the thread arena, never in chunks

@@ -29,7 +29,7 @@ struct Tracing {
 struct WavefrontOptions {
   size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
   TraceMode trace = TraceMode::kQueue;
-  QueueCapture capture;          ///< when set, receives every queue traced (trace_mode.h)
+  QueueCapture capture{};        ///< when set, receives every queue traced (trace_mode.h)
   bool sort_by_material = true;  ///< shade from queues binned by material kind (false: every kernel over every ray)
 };
 

@@ -110,7 +110,7 @@ TEST(Bvh4Walk, FindsTheEnginesHitAndTestsItsNodes) {
         visits_checked += walk.visits.size();
       }
     }
-    if (bvh4_max_depth(accel.bvh()) > 0) EXPECT_GT(visits_checked, rays.size());
+    if (bvh4_max_depth(accel.bvh()) > 0) { EXPECT_GT(visits_checked, rays.size()); }
   }
 }
 
