@@ -1,7 +1,9 @@
 // The queries of SceneBvh4 as inline functions, for code compiled once per
 // instruction-set level: bvh4_queries_isa.cpp wraps them into the level's
 // table, and the engines' hot loops call them with no dispatch. Spheres are
-// tested after the BVH walk (closest hit) or before it (any hit).
+// tested after the BVH walk (closest hit) or before it (any hit). A whole
+// queue goes as packets when it comes in coherent runs (queue_coherence.h),
+// else as a stream (bvh4_stream.h).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include "bvh4_packet.h"
 #include "bvh4_stream.h"
 #include "bvh4_traverse.h"
+#include "queue_coherence.h"
 #include "kernels/scene/sphere_intersect.h"
 #include "scene_bvh4.h"
 
@@ -114,22 +117,10 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   }
 }
 
-/// Whether a queue comes in runs of K rays from one origin in nearly one
-/// direction (a pinhole camera's rays: a pixel's samples and its
-/// neighbours'), which packets trace faster than a stream does (their
-/// subtrees, entered by all K rays, are tested once per packet, not once per
-/// list): so say its first four runs.
-inline bool in_coherent_runs(const RayArrays& rays) {
-  if (rays.size < 4 * kLanes) return false;
-  for (size_t p = 0; p < 4 * kLanes; p += kLanes) {
-    const Ray first = rays.ray(p);
-    const float first_len = length(first.dir);
-    for (size_t i = p + 1; i < p + kLanes; ++i) {
-      const Ray r = rays.ray(i);
-      if (!(r.org == first.org) || !(dot(r.dir, first.dir) > 0.999f * length(r.dir) * first_len)) return false;
-    }
-  }
-  return true;
+/// Whether the queue comes in runs of K rays that packets trace faster than
+/// a stream does (queue_coherence.h).
+inline bool in_coherent_runs(const SceneBvh4& s, const RayArrays& rays) {
+  return in_coherent_runs(rays, kCoherentSpread * scene_extent(s.bvh()), kLanes);
 }
 
 /// Closest hits of a whole queue: hits as intersect() gives them, ray by ray.
@@ -139,7 +130,8 @@ inline bool in_coherent_runs(const RayArrays& rays) {
 template <class C>
 inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
                             C& c) {
-  if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && in_coherent_runs(rays))) {
+  const bool coherent = s.bvh().form == TriangleForm::kMollerTrumbore && in_coherent_runs(s, rays);
+  if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && coherent)) {
     for (size_t i = 0; i < rays.size; ++i) {  // packets count nothing: counted queries go ray by ray
       Hit h;
       intersect(s, rays.ray(i), h, c);
@@ -147,7 +139,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
     }
     return;
   }
-  if (in_coherent_runs(rays)) {
+  if (coherent) {
     std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
     Ray records[kLanes];
     for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
@@ -179,6 +171,24 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   }
 }
 
+/// blocked[i] = occluded(rays.ray(i)) for every ray of a queue, as packets
+/// of K consecutive rays (spheres first, lane by lane). Kept out of line: it
+/// runs once per queue, and inlined it would grow the engines' hot loops.
+[[gnu::noinline]] inline void occluded_queue_as_packets(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked) {
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  Ray records[kLanes];
+  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
+    const size_t n = std::min(kLanes, rays.size - i0);
+    RayPacket p = load_ray_packet(rays, i0, n, records);
+    uint32_t hit = 0;
+    for (uint32_t m = spheres.empty() ? 0 : p.active; m != 0; m &= m - 1)
+      if (any_sphere(spheres, records[std::countr_zero(m)])) hit |= 1u << std::countr_zero(m);
+    p.active &= ~hit;
+    hit |= p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p);
+    for (size_t k = 0; k < n; ++k) blocked[i0 + k] = hit >> k & 1;
+  }
+}
+
 /// blocked[i] = occluded(rays.ray(i)) for every ray of a queue.
 template <class C>
 inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, C& c) {
@@ -187,6 +197,14 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
     return;
   }
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  // Coherent queues (a directional light's shadow rays from first hits) go as
+  // packets of 16 rays: at AVX-512 they beat the stream, packets of 8 at
+  // AVX2 do not (docs/bvh_and_benchmarks.md, held-out scenes). Packets count
+  // nothing: counted queries take the stream.
+  if (!C::kEnabled && kLanes == 16 && in_coherent_runs(s, rays)) {
+    occluded_queue_as_packets(s, rays, blocked);
+    return;
+  }
   for (size_t i = 0; i < rays.size; ++i) {
     blocked[i] = 0;
     if (spheres.empty()) continue;

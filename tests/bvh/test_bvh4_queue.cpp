@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "bvh/bvh4_interleaved.h"
+#include "bvh/queue_coherence.h"
 #include "bvh/scene_bvh4.h"
 #include "support/bvh4_support.h"
 #include "support/test_support.h"
@@ -155,6 +156,56 @@ TEST(Bvh4Queue, CameraQueuesInPixelOrderMatchSingleRays) {
       rays.push_back({p.org, p.tmin, p.dir + float3{jitter(rng), jitter(rng), 0.0f}, p.tmax});
   size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "camera rays in pixel order");
   EXPECT_LE(ties, 2u);
+}
+
+TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsPacketsAndMatchSingleRays) {
+  // The shadow rays of a directional light from the first hits of a queue in
+  // pixel order: every pixel's 16 samples hit nearly one point and leave in
+  // one direction, so the queue is coherent at every lane width (traced as
+  // packets at 16 lanes, as a stream at fewer); shuffled, it is not (a
+  // stream). Spheres are tested too.
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  const std::vector<Ray> pixels = camera_rays(s, 32, 24);
+  const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> jitter(-1e-4f, 1e-4f);
+  std::vector<Ray> rays;
+  for (const Ray& p : pixels) {
+    Hit h;
+    if (!bvh.intersect(p, h)) continue;
+    const float3 at = p.org + p.dir * (h.t * 0.999f);
+    for (int k = 0; k < 16; ++k)
+      rays.push_back({at + float3{jitter(rng), jitter(rng), jitter(rng)}, 0.0f, to_light, kInfinity});
+  }
+  ASSERT_GE(rays.size(), 4 * lanes());
+  const float near = kCoherentSpread * scene_extent(bvh.bvh());
+  Queue q(rays);
+  EXPECT_TRUE(in_coherent_runs(q.rays(), near, lanes()));
+  size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "directional shadow rays in pixel order");
+  std::shuffle(rays.begin(), rays.end(), rng);
+  EXPECT_FALSE(in_coherent_runs(Queue(rays).rays(), near, lanes()));
+  ties += expect_queue_matches_single_rays(bvh, rays, scratch, "directional shadow rays shuffled");
+  EXPECT_LE(ties, 2u);
+}
+
+TEST(Bvh4Queue, SceneExtentIsTheDiagonalOfTheSceneBounds) {
+  // One triangle (a leaf as the root) and a tessellated sphere (an inner root).
+  Scene one;
+  one.positions = {{0, 0, 0}, {3, 0, 0}, {0, 4, 0}};
+  one.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  one.triangles = {{0, 1, 2}};
+  one.triangle_material = {0};
+  one.materials.push_back(Material{});
+  one.bounds = compute_scene_bounds(one);
+  EXPECT_FLOAT_EQ(scene_extent(SceneBvh4(one).bvh()), 5.0f);
+  const Scene ball = tessellated_sphere(5, {1, 2, 3}, 2.0f);
+  float3 lo = ball.positions[0], hi = ball.positions[0];
+  for (const float3& p : ball.positions)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  EXPECT_NEAR(scene_extent(SceneBvh4(ball).bvh()), length(hi - lo), 1e-5f * length(hi - lo));  // boxes round outwards
+  EXPECT_EQ(scene_extent(SceneBvh4(Scene{}).bvh()), 0.0f);
 }
 
 TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {

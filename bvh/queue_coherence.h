@@ -1,0 +1,68 @@
+// When a queue's rays are coherent enough for packets: runs of consecutive
+// rays from one origin or from origins close together, in nearly one
+// direction. A pinhole camera's rays are such runs (a pixel's samples and its
+// neighbours'), and so are the shadow rays of a directional light from the
+// first hits of neighbouring paths; bounce rays and the shadow rays of later
+// vertices are not. The queue tracer (scene_bvh4_queries.h) traces coherent
+// queues as packets, whose subtrees, entered by all their rays, are tested
+// once per packet rather than once per list, and the others as streams.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "bvh4.h"
+#include "kernels/math/ray_arrays.h"
+
+namespace pt {
+
+/// How close the origins of a coherent run lie: within a 32nd of the scene's
+/// extent of the run's first origin.
+inline constexpr float kCoherentSpread = 1.0f / 32.0f;
+
+/// The diagonal of the scene's bounds (the BVH root's children's, or its one
+/// leaf's triangles'); 0 when it has no triangles. Moller-Trumbore leaves.
+inline float scene_extent(const Bvh4& bvh) {
+  if (bvh.empty()) return 0.0f;
+  float3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  auto take = [&](int a, float v) {
+    lo[a] = std::min(lo[a], v);
+    hi[a] = std::max(hi[a], v);
+  };
+  if (!bvh4_ref::is_leaf(bvh.root)) {
+    const Bvh4Node& n = bvh.node(bvh.root);
+    for (int c = 0; c < 4; ++c)
+      if (n.child[c] != bvh4_ref::kEmptyRef)
+        for (int a = 0; a < 3; ++a) take(a, n.bounds[2 * a][c]), take(a, n.bounds[2 * a + 1][c]);
+    return length(hi - lo);
+  }
+  for (uint32_t i = 0, count = bvh4_ref::leaf_block_count(bvh.root); i < count; ++i) {
+    const TriangleBlock4& b = bvh.leaf_blocks(bvh.root)[i];
+    for (int l = 0; l < 4; ++l)
+      if (b.prim[l] != kInvalidId)
+        for (int a = 0; a < 3; ++a)  // rows v0, e1 = v1 - v0, e2 = v2 - v0
+          take(a, b.v0[a][l]), take(a, b.v0[a][l] + b.r1[a][l]), take(a, b.v0[a][l] + b.r2[a][l]);
+  }
+  return length(hi - lo);
+}
+
+/// Whether the queue's first four runs of `run` rays are coherent: each
+/// ray's origin equal to its run's first or within `near` of it, and its
+/// direction within 2.5 degrees of the first's.
+inline bool in_coherent_runs(const RayArrays& rays, float near, size_t run) {
+  if (rays.size < 4 * run) return false;
+  for (size_t p = 0; p < 4 * run; p += run) {
+    const Ray first = rays.ray(p);
+    const float first_len = length(first.dir);
+    for (size_t i = p + 1; i < p + run; ++i) {
+      const Ray r = rays.ray(i);
+      if (!(r.org == first.org || length(r.org - first.org) <= near) ||
+          !(dot(r.dir, first.dir) > 0.999f * length(r.dir) * first_len))
+        return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace pt
