@@ -9,7 +9,12 @@
 namespace pt::cli {
 namespace {
 
-std::string quoted(std::string_view text) { return "\"" + printable_line(excerpt(text)) + "\""; }
+std::string quoted(std::string_view text) {
+  std::string q(1, '"');  // not "\"" + string: GCC 12 reports a false -Wrestrict on that
+  q += printable_line(excerpt(text));
+  q += '"';
+  return q;
+}
 
 std::string prefix(std::string_view flag, std::string_view what) {
   return std::string(flag) + ": " + std::string(what) + " must be ";
