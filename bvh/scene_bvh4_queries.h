@@ -77,6 +77,22 @@ inline bool occluded(const SceneBvh4& s, const Ray& ray) {
   return occluded(s, ray, c);
 }
 
+/// The lanes of `lanes` whose ray (traceable) a sphere blocks, tested lane by
+/// lane: an occlusion packet's first step.
+inline uint32_t sphere_blocked_lanes(std::span<const SceneBvh4::SphereShape> spheres, const Ray* rays, uint32_t lanes) {
+  uint32_t blocked = 0;
+  for (uint32_t m = spheres.empty() ? 0 : lanes; m != 0; m &= m - 1) {
+    const Ray& r = rays[std::countr_zero(m)];
+    if (ray_is_traceable(r) && any_sphere(spheres, r)) blocked |= 1u << std::countr_zero(m);
+  }
+  return blocked;
+}
+
+/// The active lanes of a packet whose ray a triangle blocks.
+inline uint32_t triangle_blocked_lanes(const SceneBvh4& s, const RayPacket& p) {
+  return p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p);
+}
+
 /// One packet of occlusion queries: the lanes of `lanes` (< kLanes) whose ray is blocked.
 inline uint32_t occluded_packet(const SceneBvh4& s, const Ray* rays, uint32_t lanes) {
   lanes &= lanes_below(kLanes);
@@ -86,13 +102,8 @@ inline uint32_t occluded_packet(const SceneBvh4& s, const Ray* rays, uint32_t la
       if (occluded(s, rays[std::countr_zero(m)])) blocked |= 1u << std::countr_zero(m);
     return blocked;
   }
-  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
-  for (uint32_t m = spheres.empty() ? 0 : lanes; m != 0; m &= m - 1) {  // spheres first, per lane
-    const Ray& r = rays[std::countr_zero(m)];
-    if (ray_is_traceable(r) && any_sphere(spheres, r)) blocked |= 1u << std::countr_zero(m);
-  }
-  RayPacket p = load_ray_packet(rays, lanes & ~blocked);
-  return blocked | (p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p));
+  blocked = sphere_blocked_lanes(s.spheres(), rays, lanes);
+  return blocked | triangle_blocked_lanes(s, load_ray_packet(rays, lanes & ~blocked));
 }
 
 /// One packet of closest-hit queries: rays[i] -> hits[i] for the lanes of `lanes` (< kLanes).
@@ -175,16 +186,13 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
 /// of K consecutive rays (spheres first, lane by lane). Kept out of line: it
 /// runs once per queue, and inlined it would grow the engines' hot loops.
 [[gnu::noinline]] inline void occluded_queue_as_packets(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked) {
-  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   Ray records[kLanes];
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
     const size_t n = std::min(kLanes, rays.size - i0);
     RayPacket p = load_ray_packet(rays, i0, n, records);
-    uint32_t hit = 0;
-    for (uint32_t m = spheres.empty() ? 0 : p.active; m != 0; m &= m - 1)
-      if (any_sphere(spheres, records[std::countr_zero(m)])) hit |= 1u << std::countr_zero(m);
+    uint32_t hit = sphere_blocked_lanes(s.spheres(), records, p.active);
     p.active &= ~hit;
-    hit |= p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p);
+    hit |= triangle_blocked_lanes(s, p);
     for (size_t k = 0; k < n; ++k) blocked[i0 + k] = hit >> k & 1;
   }
 }
