@@ -369,6 +369,9 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
                  "shadow rays as SIMD packets, the others one by one) or single (every ray on its own); queue")
       ->type_name("NAME");
   app.add_flag("--no-packets", raw.no_packets, "Wavefront: trace every ray on its own (= --trace single)");
+  app.add_flag("--shade-in-queue-order", o.queue_order_shading,
+               "Wavefront: shade bounce hits in the order their rays were queued, not sorted by the cell of their "
+               "hit points (the same image, for timing what the sort buys)");
   path("--dump-queues", o.dump_queues,
        "Wavefront: write every queue the render traces into DIR as ray files (<kind>_d<depth>.rays) with the "
        "scene's triangles (scene.tris), for trace_rays and bench_trace");

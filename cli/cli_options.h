@@ -49,6 +49,7 @@ struct Options {
   bool memory = false;                      ///< --memory: print bytes per structure and peak RSS
   TraceChoice trace = TraceChoice::kQueue;  ///< --trace (--no-packets: single)
   std::string dump_queues;                  ///< --dump-queues DIR: write every queue traced as ray files
+  bool queue_order_shading = false;         ///< --shade-in-queue-order: bounce hits not sorted by hit point
   bool count_tests = false;                 ///< --count-tests: count primitive tests (slower)
   Isa isa = Isa::kSse42;                    ///< --isa, else PT_ISA, else the widest level the CPU runs
 };

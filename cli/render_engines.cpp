@@ -37,6 +37,7 @@ RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camer
   wf::StageStats stages;
   wf::WavefrontOptions options;
   options.trace = static_cast<wf::TraceMode>(o.trace);
+  options.sort_by_hit_point = !o.queue_order_shading;
   QueueDump dump;
   if (!o.dump_queues.empty()) options.capture = dump.hook();
   RenderOutput out = wf::render_wavefront(scene, camera, rs, tracing, options, control, &stages);

@@ -27,10 +27,11 @@ struct Tracing {
 };
 
 struct WavefrontOptions {
-  size_t wave_paths = 4096;  ///< paths per wave (camera samples traced together)
+  size_t wave_paths = 8192;  ///< paths per wave (camera samples traced together)
   TraceMode trace = TraceMode::kQueue;
-  QueueCapture capture{};        ///< when set, receives every queue traced (trace_mode.h)
-  bool sort_by_material = true;  ///< shade from queues binned by material kind (false: every kernel over every ray)
+  QueueCapture capture{};         ///< when set, receives every queue traced (trace_mode.h)
+  bool sort_by_material = true;   ///< shade from queues binned by material kind (false: every kernel over every ray)
+  bool sort_by_hit_point = true;  ///< shade bounce hits in the order of their hit points' cells (hit_point_order.h)
 };
 
 /// Renders with the wavefront. If `stage_stats` is given, it receives the

@@ -8,6 +8,7 @@
 
 #include "engines.h"
 #include "generate_camera_rays.h"
+#include "hit_point_order.h"
 #include "intersect_closest.h"
 #include "russian_roulette.h"
 #include "shade_surfaces.h"
@@ -47,6 +48,10 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
       StageTimer t(stats, depth == 0 ? Stage::kIntersectCamera : Stage::kIntersectBounce);
       QueueTimer q(stats, depth == 0 ? TracedQueue::kCamera : TracedQueue::kBounce, rays.size);
       intersect_closest(tracer, rays, b.hits, b.tracing, stats.primitive_tests, method_for(mode, depth));
+    }
+    if (depth > 0 && options.sort_by_hit_point) {  // camera rays' hits come in pixel order already
+      StageTimer t(stats, Stage::kSortHits);
+      sort_by_hit_point(ctx.scene.bounds, rays, b.hits, b.hit_order);
     }
     if (ctx.settings.shading == ShadingMode::kNormals) {
       StageTimer t(stats, Stage::kShade);

@@ -17,6 +17,7 @@ enum class Stage : int {
   kGenerate,
   kIntersectCamera,
   kIntersectBounce,
+  kSortHits,
   kShade,
   kShadowFirstHit,
   kShadowLater,
@@ -24,9 +25,15 @@ enum class Stage : int {
   kAccumulate,
   kCount
 };
-inline constexpr const char* kStageNames[] = {
-    "generate_camera_rays",        "intersect_closest (camera)", "intersect_closest (bounce)", "shade_surfaces",
-    "trace_shadow_rays (1st hit)", "trace_shadow_rays (later)",  "russian_roulette",           "accumulate"};
+inline constexpr const char* kStageNames[] = {"generate_camera_rays",
+                                              "intersect_closest (camera)",
+                                              "intersect_closest (bounce)",
+                                              "sort_by_hit_point",
+                                              "shade_surfaces",
+                                              "trace_shadow_rays (1st hit)",
+                                              "trace_shadow_rays (later)",
+                                              "russian_roulette",
+                                              "accumulate"};
 
 /// The queues the tracer is handed, by kind (the tracer's time is part of the
 /// intersection and shadow stages' time): the queue tracer's time, or with

@@ -40,10 +40,25 @@ void find_blocked(const Tracer& tracer, const ShadowQueue& shadows, TracingBuffe
 
 /// Every shadow ray that reaches its light (not tb.blocked) adds its weight
 /// to its path's radiance.
+/// Branch-free (a blocked ray adds +0, which leaves every sum's bits as
+/// they are: sums start at +0 and only grow), with the arrays read once
+/// (stores into radiance would otherwise reload every pointer).
 inline void add_unblocked(const ShadowQueue& shadows, const TracingBuffers& tb, PathState& paths) {
-  for (size_t i = 0; i < shadows.size; ++i)
-    if (!tb.blocked[i])
-      paths.add_radiance(shadows.path[i], shadows.weight_r[i], shadows.weight_g[i], shadows.weight_b[i]);
+  const uint8_t* __restrict blocked = tb.blocked.data();
+  const uint32_t* __restrict path = shadows.path.data();
+  const float* __restrict wr = shadows.weight_r.data();
+  const float* __restrict wg = shadows.weight_g.data();
+  const float* __restrict wb = shadows.weight_b.data();
+  float* __restrict lr = paths.radiance_r.data();
+  float* __restrict lg = paths.radiance_g.data();
+  float* __restrict lb = paths.radiance_b.data();
+  for (size_t i = 0, n = shadows.size; i < n; ++i) {
+    const bool through = blocked[i] == 0;
+    const uint32_t p = path[i];
+    lr[p] += through ? wr[i] : 0.0f;
+    lg[p] += through ? wg[i] : 0.0f;
+    lb[p] += through ? wb[i] : 0.0f;
+  }
 }
 
 /// Closest hits of the hemisphere-sampling rays into `hits` (free at this stage).

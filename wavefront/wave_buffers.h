@@ -1,13 +1,14 @@
 // The queues one worker thread reuses from wave to wave: path state, the
 // ray queues of the current and next depth (double-buffered by parity),
-// hits, shadow rays, hemisphere rays, continuation candidates and the queues
-// by material kind. Listed once
+// hits, shadow rays, hemisphere rays, continuation candidates, the queues
+// by material kind and the order by hit point. Listed once
 // (PT_WAVE_BUFFERS) for the members and for their bytes.
 #pragma once
 
 #include <cstddef>
 
 #include "bvh/queue_scratch.h"
+#include "hit_point_order.h"
 #include "material_queues.h"
 #include "streams.h"
 
@@ -25,7 +26,8 @@ struct TracingBuffers {
 // clang-format off
 #define PT_WAVE_BUFFERS(X)                                                              \
   X(PathState, paths, ) X(RayQueue, rays, [2]) X(HitQueue, hits, ) X(ShadowQueue, shadows, ) \
-  X(ShadowQueue, hemisphere, ) X(RayQueue, continuations, ) X(MaterialQueues, by_material, )
+  X(ShadowQueue, hemisphere, ) X(RayQueue, continuations, ) X(MaterialQueues, by_material, ) \
+  X(HitPointOrder, hit_order, )
 // clang-format on
 
 template <class Stream>

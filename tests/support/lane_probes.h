@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "kernels/math/bbox.h"
 #include "kernels/simd/isa.h"
 #include "wavefront/streams.h"
 
@@ -41,6 +42,8 @@ struct LaneProbes {
   /// K items of `in`, the lanes set in masks[c] are appended to `out`.
   void (*compact_rays)(const wf::RayQueue& in, const uint32_t* masks, wf::RayQueue& out);
   void (*compact_shadows)(const wf::ShadowQueue& in, const uint32_t* masks, wf::ShadowQueue& out);
+  /// wf::sort_by_hit_point at this level (a fresh scratch each call).
+  void (*sort_by_hit_point)(const BBox& bounds, wf::RayQueue& rays, wf::HitQueue& hits);
 };
 
 /// The probes of a compiled level (IsaError otherwise).
