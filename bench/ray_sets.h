@@ -36,7 +36,8 @@ std::vector<Ray> diffuse_rays(const Scene& scene, std::span<const Ray> rays, std
 std::vector<Ray> shadow_rays(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> hits, uint32_t seed,
                              bool shuffle = false);
 
-/// Rays per queue of the synthetic sets: the wavefront's wave of paths.
+/// Rays per queue of the synthetic sets: the queue tracer's largest part (it
+/// splits the wavefront's queues, from waves of 8192 paths, into such parts).
 inline constexpr size_t kQueueRays = 4096;
 
 /// A benchmark's ray set: its rays, in the order they are traced, and the

@@ -227,7 +227,9 @@ int main(int argc, char** argv) {
   Setup setup;
   app.add_flag("--occluded", setup.occluded, "Any-hit (occlusion) queries instead of closest hits");
   app.add_flag("--single", setup.single, "Trace ray by ray instead of through the queue tracer");
-  app.add_option("--queue", setup.queue, "Rays per queue for the queue tracer (the wavefront's wave: 4096)")
+  app.add_option("--queue", setup.queue,
+                 "Rays per queue for the queue tracer (4096: its largest part; the wavefront's queues "
+                 "come from waves of 8192 paths)")
       ->check(CLI::Range(1, 1 << 24));
   app.add_option("--isa", isa, "Instruction set: auto, sse4.2, avx2, avx512 or neon (also PT_ISA)");
   bool embree = false;

@@ -11,9 +11,7 @@ namespace pt::wf {
 namespace {
 
 /// Bits 0..2 of each lane moved to bits 0, 3, 6 (one axis of a 9-bit Morton code).
-inline vuintK spread3(vuintK x) {
-  return (x & vuintK(1u)) | ((x & vuintK(2u)) << 2) | ((x & vuintK(4u)) << 4);
-}
+inline vuintK spread3(vuintK x) { return (x & vuintK(1u)) | ((x & vuintK(2u)) << 2) | ((x & vuintK(4u)) << 4); }
 
 /// The cell along one axis, [0, 8): outside the bounds (and NaN) clamped in.
 inline vuintK axis_cell(vfloatK x, float lo, float scale) {

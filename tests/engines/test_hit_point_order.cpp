@@ -36,7 +36,9 @@ TEST(HitPointOrder, IsAStablePermutationByCellInMortonOrderWithMissesLast) {
   const test::LaneProbes& probes = test::lane_probes(active_isa());
   const BBox bounds{{0.0f, 0.0f, 0.0f}, {8.0f, 8.0f, 8.0f}};  // cells of edge 1
   std::mt19937 rng(11);
-  auto quarter = [&](int lo, int hi) { return static_cast<float>(std::uniform_int_distribution<int>(lo, hi)(rng)) / 4; };
+  auto quarter = [&](int lo, int hi) {
+    return static_cast<float>(std::uniform_int_distribution<int>(lo, hi)(rng)) / 4;
+  };
   for (size_t n : {size_t(1), size_t(2), probes.lanes, 3 * probes.lanes + 1, size_t(1000), size_t(5000)}) {
     wf::RayQueue rays, in_rays;
     wf::HitQueue hits, in_hits;
@@ -105,7 +107,8 @@ TEST(HitPointOrder, AnEmptyOrFlatSceneKeepsTheQueue) {
     for (size_t k = 0; k + 1 < n; ++k) {
       if (!flat) EXPECT_EQ(rays.path[k], k) << "empty bounds: one cell, queue order";
       else  // cells of edge 0.5 along x and z; the flat axis has one cell
-        EXPECT_LE(std::min(std::floor(rays.org_x[k] * 2.0f), 7.0f), std::min(std::floor(rays.org_x[k + 1] * 2.0f), 7.0f))
+        EXPECT_LE(std::min(std::floor(rays.org_x[k] * 2.0f), 7.0f),
+                  std::min(std::floor(rays.org_x[k + 1] * 2.0f), 7.0f))
             << "a flat scene still sorts along its other axes";
     }
   }
