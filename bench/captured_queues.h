@@ -14,7 +14,7 @@ namespace pt::bench {
 
 struct CaptureSettings {
   int width = 128, height = 96;  ///< the scene's camera, this many pixels
-  int samples = 16;              ///< -s: a wave of 4096 paths is 256 pixels' samples
+  int samples = 16;              ///< -s: a wave of 8192 paths is 512 pixels' samples
   int light_samples = 4;         ///< -l
   int max_depth = 5;             ///< -m
   size_t max_rays = 1 << 19;     ///< per set: whole queues until this many rays

@@ -173,6 +173,7 @@ std::string validate_live(const Options& o) {
                       : o.memory                       ? "--memory"
                       : o.trace != TraceChoice::kQueue ? "--trace"
                       : !o.dump_queues.empty()         ? "--dump-queues"
+                      : o.queue_order_shading          ? "--shade-in-queue-order"
                       : o.count_tests                  ? "--count-tests"
                                                        : nullptr;
   if (alone) return std::string("--serve: ") + alone + " is for renders to a file, not the live view";
@@ -212,6 +213,8 @@ std::string validate(const Options& o) {
     return "--checkpoint needs a pass-based engine (--engine wavefront or megakernel)";
   if (!o.dump_queues.empty() && o.engine != Engine::kWavefront)
     return "--dump-queues needs the wavefront engine (the only one with queues)";
+  if (o.queue_order_shading && o.engine != Engine::kWavefront)
+    return "--shade-in-queue-order needs the wavefront engine (the only one with queues)";
   if (!o.merge.empty() && !o.scene_path.empty())
     return "--merge assembles parts made by --shard and takes no scene (got " + o.scene_path + ")";
   if (o.shard_count > 0 && !o.convergence_csv.empty()) return "--shard and --convergence-csv do not go together";
@@ -369,9 +372,11 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
                  "shadow rays as SIMD packets, the others one by one) or single (every ray on its own); queue")
       ->type_name("NAME");
   app.add_flag("--no-packets", raw.no_packets, "Wavefront: trace every ray on its own (= --trace single)");
-  app.add_flag("--shade-in-queue-order", o.queue_order_shading,
-               "Wavefront: shade bounce hits in the order their rays were queued, not sorted by the cell of their "
-               "hit points (the same image, for timing what the sort buys)");
+  app.add_flag(
+      "--shade-in-queue-order", o.queue_order_shading,
+      "Wavefront: shade bounce hits in the order their rays were queued, not sorted by the cell of their "
+      "hit points (the same image but for which of two triangles at exactly the same t is reported; for timing "
+      "what the sort buys)");
   path("--dump-queues", o.dump_queues,
        "Wavefront: write every queue the render traces into DIR as ray files (<kind>_d<depth>.rays) with the "
        "scene's triangles (scene.tris), for trace_rays and bench_trace");

@@ -6,7 +6,8 @@
 // streams keep their rays together for more levels, and the surface fetches
 // share cache lines. A path has one ray in a queue and every random number
 // is the path's own, so each path's sums keep their order: the image does
-// not change.
+// not change (but for which of two triangles at exactly the same t a ray
+// reports: the stream tracer's grouping of rays decides such ties).
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,7 @@
 // One wave through the pipeline: generate camera rays, then per depth
-// intersect closest -> shade surfaces -> trace shadow rays -> Russian
-// roulette, until no path continues. Reads like the pipeline it is.
+// intersect closest -> (below depth 0) sort by hit point -> shade surfaces ->
+// trace shadow rays -> Russian roulette, until no path continues. Reads like
+// the pipeline it is.
 #pragma once
 
 #include <span>

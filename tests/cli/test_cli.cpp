@@ -94,6 +94,8 @@ const std::vector<BadFlags> kBadFlags = {
     {{"--bogus"}, "error: The following argument was not expected: --bogus (see --help)"},
     {{"a.dae", "b.dae"}, "error: The following argument was not expected: b.dae (see --help)"},
     {{"-c", "-q"}, "error: -c: missing value before -q"},
+    {{"--engine", "megakernel", "--shade-in-queue-order"},
+     "error: --shade-in-queue-order needs the wavefront engine (the only one with queues)"},
 };
 
 class BadFlagsTest : public ::testing::TestWithParam<BadFlags> {};

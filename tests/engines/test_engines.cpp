@@ -233,7 +233,8 @@ void expect_identical(const Film& a, const Film& b, const std::string& what) {
 // traced; only of two triangles at exactly the same t may another be
 // reported, which none of these renders meets. Shading bounce hits in queue
 // order instead of sorted by hit point (--shade-in-queue-order) changes no
-// bit either: every path's sums keep their order.
+// bit either (every path's sums keep their order), with the same caveat:
+// the sort changes which rays the stream tracer groups.
 TEST(Determinism, EveryTraceModeRendersTheSameImage) {
   for (const std::string& path : scenes_to_test()) {
     Scene scene = load_collada_file(path).scene;

@@ -80,7 +80,8 @@ cli::MemoryReport wavefront_report(int w, int h) {
 }
 
 TEST(MemoryReport, PerPixelBuffersScaleWithTheImageAndQueuesWithTheWave) {
-  cli::MemoryReport small = wavefront_report(40, 30), large = wavefront_report(160, 120);
+  // 64 x 48 pixels at 4 samples: more paths than one wave holds, as at 160 x 120.
+  cli::MemoryReport small = wavefront_report(64, 48), large = wavefront_report(160, 120);
   for (const cli::MemoryReport* r : {&small, &large}) {
     size_t per_pixel = 0;
     for (const cli::MemoryLine& l : r->lines)
@@ -88,19 +89,21 @@ TEST(MemoryReport, PerPixelBuffersScaleWithTheImageAndQueuesWithTheWave) {
     // Accumulators, three pixel lists, film radiance + samples + variance.
     EXPECT_EQ(per_pixel, r->pixels * (sizeof(PixelAccumulator) + 3 * 4 + 12 + 4 + 4));
   }
-  // One thread's queues hold one wave (4096 paths) whatever the image size:
-  // path state, two ray queues, hits, continuations and one shadow ray per path.
+  // One thread's queues hold one wave whatever the image size: path state,
+  // two ray queues, hits, continuations, one shadow ray per path, and the
+  // hit-point order's ray and hit queues with its cell and index per ray.
+  const size_t wave = wf::WavefrontOptions{}.wave_paths;
   size_t queues = line(small, "wavefront: wave queues").bytes;
   EXPECT_EQ(queues, line(large, "wavefront: wave queues").bytes);
-  size_t per_path = sizeof(wf::PathState::Item) + 3 * sizeof(wf::RayQueue::Item) + sizeof(wf::HitQueue::Item) +
-                    sizeof(wf::ShadowQueue::Item);
-  EXPECT_LE(queues, 4096 * per_path);
+  size_t per_path = sizeof(wf::PathState::Item) + 4 * sizeof(wf::RayQueue::Item) + 2 * sizeof(wf::HitQueue::Item) +
+                    sizeof(wf::ShadowQueue::Item) + 2 * sizeof(uint32_t);
+  EXPECT_LE(queues, wave * per_path);
   EXPECT_GT(queues, 0u);
   // The queue tracer's answers: one byte per shadow ray of a wave (the BVH2
   // traces ray by ray: no lists).
   size_t tracer = line(small, "wavefront: queue tracer lists").bytes;
   EXPECT_EQ(tracer, line(large, "wavefront: queue tracer lists").bytes);
-  EXPECT_LE(tracer, 4096u);
+  EXPECT_LE(tracer, wave);
 }
 
 TEST(PeakMemory, CBbunnyAt480x360StaysUnder64MBInEveryEngine) {

@@ -8,6 +8,7 @@
 
 #include "kernels/math/bbox.h"
 #include "kernels/simd/isa.h"
+#include "wavefront/hit_point_order.h"
 #include "wavefront/streams.h"
 
 namespace pt::test {
@@ -42,8 +43,8 @@ struct LaneProbes {
   /// K items of `in`, the lanes set in masks[c] are appended to `out`.
   void (*compact_rays)(const wf::RayQueue& in, const uint32_t* masks, wf::RayQueue& out);
   void (*compact_shadows)(const wf::ShadowQueue& in, const uint32_t* masks, wf::ShadowQueue& out);
-  /// wf::sort_by_hit_point at this level (a fresh scratch each call).
-  void (*sort_by_hit_point)(const BBox& bounds, wf::RayQueue& rays, wf::HitQueue& hits);
+  /// wf::sort_by_hit_point at this level.
+  void (*sort_by_hit_point)(const BBox& bounds, wf::RayQueue& rays, wf::HitQueue& hits, wf::HitPointOrder& scratch);
 };
 
 /// The probes of a compiled level (IsaError otherwise).

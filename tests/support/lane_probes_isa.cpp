@@ -70,11 +70,6 @@ void compact(const Stream& in, const uint32_t* masks, Stream& out) {
   for (size_t i0 = 0; i0 < in.size; i0 += kLanes) wf::append_lanes(out, masks[i0 / kLanes], wf::load_lanes(in, i0));
 }
 
-void sort_hits(const BBox& bounds, wf::RayQueue& rays, wf::HitQueue& hits) {
-  wf::HitPointOrder scratch;
-  wf::sort_by_hit_point(bounds, rays, hits, scratch);
-}
-
 }  // namespace
 }  // namespace pt::test
 
@@ -95,6 +90,6 @@ const test::LaneProbes kLaneProbes = {
     .reduce_max = test::max_of,
     .compact_rays = test::compact<wf::RayQueue>,
     .compact_shadows = test::compact<wf::ShadowQueue>,
-    .sort_by_hit_point = test::sort_hits,
+    .sort_by_hit_point = wf::sort_by_hit_point,
 };
 }  // namespace pt::PT_ISA_NS
