@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 
 #include "bvh4_packet.h"
 #include "bvh4_stream.h"
@@ -213,9 +214,8 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
     occluded_queue_as_packets(s, rays, blocked);
     return;
   }
-  for (size_t i = 0; i < rays.size; ++i) {
-    blocked[i] = 0;
-    if (spheres.empty()) continue;
+  std::memset(blocked, 0, rays.size);
+  for (size_t i = 0; i < rays.size && !spheres.empty(); ++i) {
     const Ray r = rays.ray(i);
     if (!ray_is_traceable(r)) continue;
     c.primitives_tested(static_cast<uint32_t>(spheres.size()));
