@@ -48,16 +48,9 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
       d = camera_ray_direction(cam, sx, sy);
     }
     const vfloatK one(1.0f), zero(0.0f);
-    store_lanes(paths, i0,
-                PathLanes{.pixel = pixel,
-                          .sample = sample,
-                          .beta_r = one,
-                          .beta_g = one,
-                          .beta_b = one,
-                          .radiance_r = zero,
-                          .radiance_g = zero,
-                          .radiance_b = zero,
-                          .bsdf_pdf = zero});
+    store_lanes(
+        paths, i0,
+        PathLanes{.pixel = pixel, .sample = sample, .radiance_r = zero, .radiance_g = zero, .radiance_b = zero});
     store_lanes(rays, i0,
                 RayLanes{.org_x = o.x,
                          .org_y = o.y,
@@ -67,7 +60,11 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
                          .dir_y = d.y,
                          .dir_z = d.z,
                          .tmax = vfloatK(cam.far_clip),
-                         .path = xsimd::batch_cast<uint32_t>(lane_index()) + vuintK(static_cast<uint32_t>(i0))});
+                         .path = xsimd::batch_cast<uint32_t>(lane_index()) + vuintK(static_cast<uint32_t>(i0)),
+                         .beta_r = one,
+                         .beta_g = one,
+                         .beta_b = one,
+                         .bsdf_pdf = zero});
   }
 }
 

@@ -9,8 +9,8 @@
 
 namespace pt::wf {
 
-/// Initialises paths [0, n) (identity, random key, throughput 1, radiance 0)
-/// and writes their camera rays to `rays` (ray i belongs to path i).
+/// Initialises paths [0, n) (identity, random key, radiance 0) and writes
+/// their camera rays to `rays` (ray i belongs to path i; throughput 1).
 void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixels, uint32_t first_sample,
                           uint32_t samples, PathState& paths, RayQueue& rays);
 

@@ -23,7 +23,7 @@ namespace pt::wf {
 struct HitPointOrder {
   static constexpr uint32_t kCells = 8 * 8 * 8;  ///< bucket kCells: misses
   AlignedVector<uint32_t> cell, order;           ///< 8 bytes per ray
-  RayQueue rays;                                 ///< 36 bytes per ray
+  RayQueue rays;                                 ///< 52 bytes per ray
   HitQueue hits;                                 ///< 16 bytes per ray
 
   size_t bytes() const { return (cell.capacity() + order.capacity()) * sizeof(uint32_t) + rays.bytes() + hits.bytes(); }

@@ -46,9 +46,12 @@ inline void push_shadow_lanes(uint32_t mask, ShadowQueue& q, const Vec3T<vfloatK
                            .weight_b = weight.z});
 }
 
-/// Appends the unbounded rays (t in [0, inf)) of the lanes in `mask`.
-inline void push_ray_lanes(uint32_t mask, RayQueue& q, const Vec3T<vfloatK>& org, const Vec3T<vfloatK>& dir,
-                           vuintK path) {
+/// The paths of the lanes in `mask` go on: each one's ray from `org` along
+/// `dir` (t in [0, inf)) joins `q`, carrying the path's throughput, now
+/// `beta`, and the pdf of its BSDF sample `pdf` (negative for a delta lobe:
+/// no MIS).
+inline void continue_paths(uint32_t mask, vuintK path, const Vec3T<vfloatK>& beta, vfloatK pdf, RayQueue& q,
+                           const Vec3T<vfloatK>& org, const Vec3T<vfloatK>& dir) {
   append_lanes(q, mask,
                RayLanes{.org_x = org.x,
                         .org_y = org.y,
@@ -58,23 +61,11 @@ inline void push_ray_lanes(uint32_t mask, RayQueue& q, const Vec3T<vfloatK>& org
                         .dir_y = dir.y,
                         .dir_z = dir.z,
                         .tmax = vfloatK(kInfinity),
-                        .path = path});
-}
-
-/// The paths of the lanes in `mask` go on: each one's throughput becomes
-/// `beta` and the pdf of its BSDF sample `pdf` (negative for a delta lobe:
-/// no MIS), and its ray from `org` along `dir` joins `q`.
-inline void continue_paths(uint32_t mask, PathState& paths, vuintK path, const Vec3T<vfloatK>& beta, vfloatK pdf,
-                           RayQueue& q, const Vec3T<vfloatK>& org, const Vec3T<vfloatK>& dir) {
-  LaneFloats br(beta.x), bg(beta.y), bb(beta.z), p(pdf);
-  LaneUints path_of(path);
-  for_each_lane(mask, [&](size_t l) {
-    paths.beta_r[path_of[l]] = br[l];
-    paths.beta_g[path_of[l]] = bg[l];
-    paths.beta_b[path_of[l]] = bb[l];
-    paths.bsdf_pdf[path_of[l]] = p[l];
-  });
-  push_ray_lanes(mask, q, org, dir, path);
+                        .path = path,
+                        .beta_r = beta.x,
+                        .beta_g = beta.y,
+                        .beta_b = beta.z,
+                        .bsdf_pdf = pdf});
 }
 
 }  // namespace pt::wf

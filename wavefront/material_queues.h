@@ -13,7 +13,7 @@
 
 namespace pt::wf {
 
-/// 52 bytes per ray (a RayQueue item and a HitQueue item), per kind present.
+/// 68 bytes per ray (a RayQueue item and a HitQueue item), per kind present.
 struct MaterialQueues {
   RayQueue rays[kMaterialKindCount];
   HitQueue hits[kMaterialKindCount];

@@ -9,7 +9,7 @@
 
 namespace pt::wf {
 
-void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, PathState& paths,
+void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, const PathState& paths,
                       RayQueue& next) {
   const size_t n = candidates.size;
   next.reserve(n);
@@ -21,23 +21,16 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
       append_lanes(next, lane_mask(valid), load_lanes(candidates, i0));
       continue;
     }
-    vuintK path = vuintK::load_aligned(&candidates.path[i0]);
-    vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(path), vintK(0));
+    RayLanes ray = load_lanes(candidates, i0);
+    vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(ray.path), vintK(0));
     const SamplerK ps = sampler_of_paths(rs, paths, safe_path);
-    vfloatK beta_max =
-        xsimd::max(gather(paths.beta_r.data(), safe_path),
-                   xsimd::max(gather(paths.beta_g.data(), safe_path), gather(paths.beta_b.data(), safe_path)));
-    vfloatK p = continuation_probability(rs, beta_max);
+    vfloatK p = continuation_probability(rs, xsimd::max(ray.beta_r, xsimd::max(ray.beta_g, ray.beta_b)));
     uint32_t survive = lane_mask(valid && ps.get1d(vertex, dims::kRoulette) < p);
-    LaneFloats inv_p(vfloatK(1.0f) / p);
-    LaneUints paths_of(path);
-    for_each_lane(survive, [&](size_t l) {
-      uint32_t path_id = paths_of[l];
-      paths.beta_r[path_id] *= inv_p[l];
-      paths.beta_g[path_id] *= inv_p[l];
-      paths.beta_b[path_id] *= inv_p[l];
-    });
-    append_lanes(next, survive, load_lanes(candidates, i0));
+    const vfloatK inv_p = vfloatK(1.0f) / p;  // survivors' throughput / p
+    ray.beta_r = ray.beta_r * inv_p;
+    ray.beta_g = ray.beta_g * inv_p;
+    ray.beta_b = ray.beta_b * inv_p;
+    append_lanes(next, survive, ray);
   }
 }
 

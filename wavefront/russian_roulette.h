@@ -1,6 +1,7 @@
 // Stage 5: Russian roulette and compaction. From the second bounce on, each
-// continuation survives with probability rr_continue (its throughput divided
-// by it); survivors are written, in order, to the next depth's ray queue.
+// continuation survives with probability rr_continue (the throughput its ray
+// carries divided by it); survivors are written, in order, to the next
+// depth's ray queue.
 #pragma once
 
 #include <cstdint>
@@ -11,7 +12,7 @@
 namespace pt::wf {
 
 /// `vertex` = the path vertex the candidates leave from (>= 1).
-void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, PathState& paths,
+void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, const PathState& paths,
                       RayQueue& next);
 
 }  // namespace pt::wf

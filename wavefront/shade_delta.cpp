@@ -41,9 +41,8 @@ void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, cons
     vboolK above = dot3(wi, s.ng) > vfloatK(0.0f), up = d.wi.z > vfloatK(0.0f);
     uint32_t mask = lane_mask(s.hit && d.ok && ((above && up) || !(above || up)));
     if (!mask) continue;
-    V3 beta = times(gather3(paths.beta_r, paths.beta_g, paths.beta_b, path), d.weight);
-    continue_paths(mask, paths, xsimd::bitwise_cast<vuintK>(path), beta, vfloatK(-1.0f), out.continuations,
-                   offset_origin(s.p, s.ng, s.offset, wi), wi);
+    continue_paths(mask, xsimd::bitwise_cast<vuintK>(path), times(lane_beta(rays, i0), d.weight), vfloatK(-1.0f),
+                   out.continuations, offset_origin(s.p, s.ng, s.offset, wi), wi);
   }
 }
 

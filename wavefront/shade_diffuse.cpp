@@ -36,7 +36,7 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
     uint32_t path = rays.path[i];
     Ray ray = rays.ray(i);
     Hit hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]};
-    float3 beta{paths.beta_r[path], paths.beta_g[path], paths.beta_b[path]};
+    float3 beta{rays.beta_r[i], rays.beta_g[i], rays.beta_b[i]};
     float3 L;
     SurfacePoint sp;
     if (hit.valid()) sp = surface_at(ctx.scene, ray, hit);
@@ -47,7 +47,7 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
         L = emitted_radiance(ctx.scene, sp, ray, rs);
       }
     } else {
-      const float pdf = paths.bsdf_pdf[path];  // < 0: the ray left a delta lobe
+      const float pdf = rays.bsdf_pdf[i];  // < 0: the ray left a delta lobe
       L = beta * light_found_by_bounce(ctx.scene, rs, ctx.rules, depth, ray, hit.valid() ? &hit : nullptr,
                                        hit.valid() ? &sp : nullptr, pdf, ctx.has_delta && pdf < 0.0f);
     }
@@ -80,11 +80,11 @@ void sample_direct_light(const WaveContext& ctx, const Chunk& c, ShadeOutputs& o
 }
 
 /// Cosine-weighted continuation; throughput *= albedo (f cos / pdf).
-void sample_bsdf(const Chunk& c, PathState& paths, RayQueue& q) {
+void sample_bsdf(const Chunk& c, RayQueue& q) {
   BsdfSampleT<vfloatK> bs = sample_lambertian(c.point, c.ps, c.vertex);
   uint32_t mask = lane_mask(bs.ok);
   if (!mask) return;
-  continue_paths(mask, paths, c.path, times(c.beta, c.albedo), bs.pdf, q,
+  continue_paths(mask, c.path, times(c.beta, c.albedo), bs.pdf, q,
                  offset_origin(c.point.p, c.point.ng, c.point.offset, bs.wi), bs.wi);
 }
 
@@ -122,11 +122,11 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
     Chunk c{{s.p, s.ng, s.ns, s.offset, reflects},
             xsimd::bitwise_cast<vuintK>(path),
             sampler_of_paths(rs, paths, path),
-            gather3(paths.beta_r, paths.beta_g, paths.beta_b, path),
+            lane_beta(rays, i0),
             albedo,
             vertex};
     if (direct) sample_direct_light(ctx, c, out);
-    if (samples_bsdf) sample_bsdf(c, paths, out.continuations);
+    if (samples_bsdf) sample_bsdf(c, out.continuations);
   }
 }
 

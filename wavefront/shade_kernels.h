@@ -32,6 +32,13 @@ inline vboolK hits_of_kind(const WaveContext& ctx, const SurfaceBatch& s, Materi
   return s.hit && as_float_mask(k == vintK(static_cast<int32_t>(kind)));
 }
 
+/// Throughput of the paths of the queue's lanes [i0, i0 + K) (unspecified
+/// in lanes past its end).
+inline V3 lane_beta(const RayQueue& rays, size_t i0) {
+  return {vfloatK::load_aligned(&rays.beta_r[i0]), vfloatK::load_aligned(&rays.beta_g[i0]),
+          vfloatK::load_aligned(&rays.beta_b[i0])};
+}
+
 /// Paths of the queue's lanes [i0, i0 + K) (0 in lanes past its end).
 inline vintK lane_paths(const RayQueue& rays, size_t i0, vboolK valid) {
   return xsimd::select(as_int_mask(valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));

@@ -32,7 +32,7 @@ void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& ra
                                 gather3(mats.eta_r, mats.eta_g, mats.eta_b, s.material),
                                 gather3(mats.k_r, mats.k_g, mats.k_b, s.material)};
     const SamplerK ps = sampler_of_paths(rs, paths, path);
-    const V3 beta = gather3(paths.beta_r, paths.beta_g, paths.beta_b, path);
+    const V3 beta = lane_beta(rays, i0);
     const ShadingPointT<vfloatK> point{s.p, s.ng, s.ns, s.offset, s.hit};
     auto eval = [&](const V3& wi) { return eval_microfacet(m, wo_local, local_of(wi, s.ns), course); };
 
@@ -61,7 +61,7 @@ void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& ra
     V3 wi = to_world(s.ns.x, s.ns.y, s.ns.z, ms.wi.x, ms.wi.y, ms.wi.z);
     uint32_t mask = lane_mask(s.hit && ms.ok && dot3(wi, s.ng) > vfloatK(0.0f));
     if (!mask) continue;
-    continue_paths(mask, paths, path_u, times(beta, ms.weight), ms.pdf, out.continuations,
+    continue_paths(mask, path_u, times(beta, ms.weight), ms.pdf, out.continuations,
                    offset_origin(s.p, s.ng, s.offset, wi), wi);
   }
 }

@@ -9,14 +9,13 @@
 
 namespace pt::wf {
 
-/// 36 bytes per path: identity (whose sampler the stages rebuild:
-/// sampler_lanes.h), throughput, radiance so far, and the pdf of the last
-/// BSDF sample (for MIS when its ray finds a light).
+/// 20 bytes per path: identity (whose sampler the stages rebuild:
+/// sampler_lanes.h) and radiance so far. The throughput travels with the
+/// path's ray (RayQueue), which the stages read in queue order.
 // clang-format off
 #define PT_PATH_FIELDS(X)                                                         \
   X(uint32_t, pixel) X(uint32_t, sample)                                          \
-  X(float, beta_r) X(float, beta_g) X(float, beta_b)                              \
-  X(float, radiance_r) X(float, radiance_g) X(float, radiance_b) X(float, bsdf_pdf)
+  X(float, radiance_r) X(float, radiance_g) X(float, radiance_b)
 // clang-format on
 struct PathState {
   PT_SOA_STREAM(PT_PATH_FIELDS)
@@ -27,11 +26,14 @@ struct PathState {
   }
 };
 
-/// 36 bytes per ray: closest-hit query of one path.
+/// 52 bytes per ray: closest-hit query of one path, with the path's
+/// throughput and the pdf of the BSDF sample that made the ray (for MIS when
+/// it finds a light; < 0: a delta lobe; 0 for camera rays).
 // clang-format off
 #define PT_RAY_FIELDS(X)                                                           \
   X(float, org_x) X(float, org_y) X(float, org_z) X(float, tmin)                   \
-  X(float, dir_x) X(float, dir_y) X(float, dir_z) X(float, tmax) X(uint32_t, path)
+  X(float, dir_x) X(float, dir_y) X(float, dir_z) X(float, tmax) X(uint32_t, path) \
+  X(float, beta_r) X(float, beta_g) X(float, beta_b) X(float, bsdf_pdf)
 // clang-format on
 struct RayQueue {
   PT_SOA_STREAM(PT_RAY_FIELDS)

@@ -55,6 +55,8 @@ TEST(HitPointOrder, IsAStablePermutationByCellInMortonOrderWithMissesLast) {
       rays.tmin[i] = quarter(0, 4);
       rays.tmax[i] = quarter(40, 80);
       rays.path[i] = static_cast<uint32_t>(i);
+      rays.beta_r[i] = quarter(0, 8), rays.beta_g[i] = quarter(0, 8), rays.beta_b[i] = quarter(0, 8);
+      rays.bsdf_pdf[i] = quarter(-4, 8);
       const bool miss = rng() % 10 == 0;
       hits.t[i] = miss ? kInfinity : t;
       hits.u[i] = quarter(0, 4), hits.v[i] = quarter(0, 4);
