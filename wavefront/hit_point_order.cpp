@@ -1,6 +1,7 @@
 // sort_by_hit_point: cell keys K lanes at a time, a histogram, bucket
 // starts, a stable scatter of indices, then every field of both queues
-// gathered in the new order (K lanes per gather).
+// gathered in the new order (K lanes per gather; a field of one value, as a
+// bounce queue's tmin and tmax, filled instead).
 #include "hit_point_order.h"
 
 #include <utility>
@@ -20,9 +21,28 @@ inline vuintK axis_cell(vfloatK x, float lo, float scale) {
   return xsimd::batch_cast<uint32_t>(xsimd::batch_cast<int32_t>(c));
 }
 
+/// Whether items [0, n) of a field all hold item 0's bits (a bounce queue's
+/// tmin and tmax); most fields differ within their first batch.
+template <class T>
+bool holds_one_value(const T* field, size_t n) {
+  const uint32_t* bits = reinterpret_cast<const uint32_t*>(field);
+  const vuintK first(bits[0]);
+  const size_t whole = n / kLanes * kLanes;
+  for (size_t j = 0; j < whole; j += kLanes)
+    if (xsimd::any(vuintK::load_aligned(bits + j) != first)) return false;
+  for (size_t j = whole; j < n; ++j)
+    if (bits[j] != bits[0]) return false;
+  return true;
+}
+
 /// to[j] = from[order[j]] for j in [0, n rounded up to K); order is padded.
+/// A field of one value is copied as that value instead of gathered.
 template <class T>
 void gather_field(const T* from, T* to, const uint32_t* order, size_t n) {
+  if (holds_one_value(from, n)) {
+    std::fill(to, to + round_up_to_lanes(n), from[0]);
+    return;
+  }
   for (size_t j = 0; j < n; j += kLanes)
     gather(from, xsimd::bitwise_cast<vintK>(vuintK::load_aligned(order + j))).store_aligned(to + j);
 }

@@ -2,7 +2,9 @@
 // (wavefront/hit_point_order.h): at the level in use, the sort is a stable
 // permutation that carries every field of a ray and its hit, groups hits by
 // cell in Morton order (x in the lowest bit) and puts misses last, also when
-// one scratch serves queues of decreasing size (as in a render). Hit points
+// one scratch serves queues of decreasing size (as in a render), and when a
+// field holds one value (filled, not gathered; a lone -0 among +0 is not one
+// value). Hit points
 // are exact in float here (quarters, times 1/2, 1 or 2), so that the test's
 // own arithmetic cannot put a point in another cell than the sort does.
 #include <gtest/gtest.h>
@@ -52,8 +54,10 @@ TEST(HitPointOrder, IsAStablePermutationByCellInMortonOrderWithMissesLast) {
       const float t = std::array{0.5f, 1.0f, 2.0f}[rng() % 3];
       rays.org_x[i] = quarter(-8, 40), rays.org_y[i] = quarter(-8, 40), rays.org_z[i] = quarter(-8, 40);
       rays.dir_x[i] = quarter(-8, 8), rays.dir_y[i] = quarter(-8, 8), rays.dir_z[i] = quarter(-8, 8);
-      rays.tmin[i] = quarter(0, 4);
-      rays.tmax[i] = quarter(40, 80);
+      // A bounce queue's tmin and tmax hold one value (filled, not gathered);
+      // a single -0 among +0 must still be carried.
+      rays.tmin[i] = n == 1000 ? 0.0f : n == 5000 ? (i == 17 ? -0.0f : 0.0f) : quarter(0, 4);
+      rays.tmax[i] = n == 1000 ? kInfinity : quarter(40, 80);
       rays.path[i] = static_cast<uint32_t>(i);
       rays.beta_r[i] = quarter(0, 8), rays.beta_g[i] = quarter(0, 8), rays.beta_b[i] = quarter(0, 8);
       rays.bsdf_pdf[i] = quarter(-4, 8);
@@ -77,6 +81,7 @@ TEST(HitPointOrder, IsAStablePermutationByCellInMortonOrderWithMissesLast) {
     for (size_t k = 0; k < n; ++k) {
       const uint32_t from = expected[k];
       ASSERT_EQ(rays.path[k], from) << "item " << k << " of " << n;
+      EXPECT_EQ(std::signbit(rays.tmin[k]), std::signbit(in_rays.tmin[from])) << "tmin of item " << k;
       {
         const wf::RayQueue &in = in_rays, &out = rays;
         PT_RAY_FIELDS(PT_EXPECT_FIELD)
