@@ -29,7 +29,7 @@ bool holds_one_value(const T* field, size_t n) {
   const vuintK first(bits[0]);
   const size_t whole = n / kLanes * kLanes;
   for (size_t j = 0; j < whole; j += kLanes)
-    if (xsimd::any(vuintK::load_aligned(bits + j) != first)) return false;
+    if (lane_mask(as_float_mask(vuintK::load_aligned(bits + j) != first)) != 0) return false;
   for (size_t j = whole; j < n; ++j)
     if (bits[j] != bits[0]) return false;
   return true;

@@ -243,6 +243,33 @@ inline vboolK lanes_of_mask(uint32_t bits) {
 #endif
 }
 
+#if XSIMD_WITH_AVX2 && !XSIMD_WITH_AVX512F
+namespace simd_detail {
+/// The AVX2 gathers, written out so that the index never sits in ymm4:
+/// qemu 7.2 (Debian 12's, which the emulated-CPU test runs) decodes a VSIB
+/// index in register 4 as "no index" and loads base[0] into every lane, so
+/// an image would change with the compiler's choice of register. The
+/// clobber keeps every operand out of ymm4; the array operand tells the
+/// compiler what the gather reads.
+inline __m256 gather8(const float* base, __m256i index) {
+  __m256 mask = _mm256_castsi256_ps(_mm256_set1_epi32(-1)), out;
+  asm("vgatherdps %[mask], (%[base],%[index],4), %[out]"
+      : [out] "=&x"(out), [mask] "+&x"(mask)
+      : [base] "r"(base), [index] "x"(index), "m"(*reinterpret_cast<const float(*)[]>(base))
+      : "xmm4");
+  return out;
+}
+inline __m256i gather8(const int32_t* base, __m256i index) {
+  __m256i mask = _mm256_set1_epi32(-1), out;
+  asm("vpgatherdd %[mask], (%[base],%[index],4), %[out]"
+      : [out] "=&x"(out), [mask] "+&x"(mask)
+      : [base] "r"(base), [index] "x"(index), "m"(*reinterpret_cast<const int32_t(*)[]>(base))
+      : "xmm4");
+  return out;
+}
+}  // namespace simd_detail
+#endif
+
 /// base[index[i]] per lane, with the hardware gather where there is one
 /// (xsimd 8.1 gathers element by element). For random indices (the
 /// wavefront's surface and path lookups) it is as fast as element-wise loads;
@@ -252,7 +279,7 @@ inline vfloatK gather(const float* base, vintK index) {
 #if XSIMD_WITH_AVX512F
   return _mm512_i32gather_ps(index, base, 4);
 #elif XSIMD_WITH_AVX2
-  return _mm256_i32gather_ps(base, index, 4);
+  return simd_detail::gather8(base, index);
 #else
   return vfloatK::gather(base, index);
 #endif
@@ -261,7 +288,7 @@ inline vintK gather(const int32_t* base, vintK index) {
 #if XSIMD_WITH_AVX512F
   return _mm512_i32gather_epi32(index, base, 4);
 #elif XSIMD_WITH_AVX2
-  return _mm256_i32gather_epi32(base, index, 4);
+  return simd_detail::gather8(base, index);
 #else
   return vintK::gather(base, index);
 #endif
