@@ -1,4 +1,4 @@
-// fetch_surfaces: gathers and the sphere patch.
+// fetch_surfaces: gathers and the sphere patch; SurfaceLanes.
 #include "fetch_surfaces.h"
 
 #include <algorithm>
@@ -16,34 +16,12 @@ Vec3T<vfloatK> gather3(const float* f, vintK index) {
 /// Overwrites the sphere lanes with the scalar reconstruction.
 void patch_spheres(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0, uint32_t lanes,
                    SurfaceBatch& s) {
-  alignas(64) float f[10][kLanes];
-  alignas(64) int32_t material[kLanes];
-  alignas(64) int32_t front[kLanes];
-  Vec3T<vfloatK>* vecs[3] = {&s.p, &s.ng, &s.ns};
-  for (int v = 0; v < 3; ++v) {
-    vecs[v]->x.store_aligned(f[3 * v]);
-    vecs[v]->y.store_aligned(f[3 * v + 1]);
-    vecs[v]->z.store_aligned(f[3 * v + 2]);
-  }
-  s.offset.store_aligned(f[9]);
-  s.material.store_aligned(material);
-  xsimd::select(as_int_mask(s.front), vintK(1), vintK(0)).store_aligned(front);
+  SurfaceLanes by_lane(s);
   for (; lanes; lanes &= lanes - 1) {
     size_t lane = static_cast<size_t>(__builtin_ctz(lanes)), i = i0 + lane;
-    SurfacePoint sp = surface_at(ctx.scene, rays.ray(i), Hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]});
-    const float3* src[3] = {&sp.p, &sp.ng, &sp.ns};
-    for (int v = 0; v < 3; ++v)
-      for (int c = 0; c < 3; ++c) f[3 * v + c][lane] = (*src[v])[c];
-    f[9][lane] = sp.offset;
-    material[lane] = static_cast<int32_t>(sp.material);
-    front[lane] = sp.front ? 1 : 0;
+    by_lane.set(lane, surface_at(ctx.scene, rays.ray(i), Hit{hits.t[i], hits.u[i], hits.v[i], hits.prim[i]}));
   }
-  for (int v = 0; v < 3; ++v)
-    *vecs[v] = {vfloatK::load_aligned(f[3 * v]), vfloatK::load_aligned(f[3 * v + 1]),
-                vfloatK::load_aligned(f[3 * v + 2])};
-  s.offset = vfloatK::load_aligned(f[9]);
-  s.material = vintK::load_aligned(material);
-  s.front = as_float_mask(vintK::load_aligned(front) != vintK(0));
+  by_lane.load_into(s);
 }
 
 }  // namespace
@@ -76,6 +54,47 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.material = gather(tris.material, tri);
   if (uint32_t sphere_lanes = lane_mask(sphere)) patch_spheres(ctx, rays, hits, i0, sphere_lanes, s);
   return s;
+}
+
+SurfaceLanes::SurfaceLanes(const SurfaceBatch& s) {
+  const Vec3T<vfloatK>* vecs[3] = {&s.p, &s.ng, &s.ns};
+  for (int v = 0; v < 3; ++v) {
+    vecs[v]->x.store_aligned(f_[3 * v]);
+    vecs[v]->y.store_aligned(f_[3 * v + 1]);
+    vecs[v]->z.store_aligned(f_[3 * v + 2]);
+  }
+  s.offset.store_aligned(f_[9]);
+  s.material.store_aligned(material_);
+  xsimd::select(as_int_mask(s.front), vintK(1), vintK(0)).store_aligned(front_);
+}
+
+void SurfaceLanes::set(size_t lane, const SurfacePoint& sp) {
+  const float3* src[3] = {&sp.p, &sp.ng, &sp.ns};
+  for (int v = 0; v < 3; ++v)
+    for (int c = 0; c < 3; ++c) f_[3 * v + c][lane] = (*src[v])[c];
+  f_[9][lane] = sp.offset;
+  material_[lane] = static_cast<int32_t>(sp.material);
+  front_[lane] = sp.front ? 1 : 0;
+}
+
+void SurfaceLanes::load_into(SurfaceBatch& s) const {
+  Vec3T<vfloatK>* vecs[3] = {&s.p, &s.ng, &s.ns};
+  for (int v = 0; v < 3; ++v)
+    *vecs[v] = {vfloatK::load_aligned(f_[3 * v]), vfloatK::load_aligned(f_[3 * v + 1]),
+                vfloatK::load_aligned(f_[3 * v + 2])};
+  s.offset = vfloatK::load_aligned(f_[9]);
+  s.material = vintK::load_aligned(material_);
+  s.front = as_float_mask(vintK::load_aligned(front_) != vintK(0));
+}
+
+SurfacePoint SurfaceLanes::point(size_t lane) const {
+  SurfacePoint sp;
+  float3* dst[3] = {&sp.p, &sp.ng, &sp.ns};
+  for (int v = 0; v < 3; ++v) *dst[v] = {f_[3 * v][lane], f_[3 * v + 1][lane], f_[3 * v + 2][lane]};
+  sp.offset = f_[9][lane];
+  sp.material = static_cast<uint32_t>(material_[lane]);
+  sp.front = front_[lane] != 0;
+  return sp;
 }
 
 void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, bool vertices) {

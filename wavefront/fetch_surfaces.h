@@ -1,11 +1,13 @@
 // Rebuilds the surfaces of K hits at once from the scene arrays (SIMD gathers
 // of triangle vertices and normals, then the shared triangle_surface math);
-// the rare sphere lanes are patched with the scalar surface_at.
+// the rare sphere lanes are patched with the scalar surface_at. SurfaceLanes
+// hands the lanes to scalar code (emission) without rebuilding them.
 #pragma once
 
 #include <cstddef>
 
 #include "kernels/math/frame.h"
+#include "kernels/transport/surface.h"
 #include "kernels/simd/simd.h"
 #include "streams.h"
 #include "wave_context.h"
@@ -19,6 +21,20 @@ struct SurfaceBatch {
   vboolK hit;    ///< lane holds a surface (a valid ray that hit)
   vboolK valid;  ///< lane holds a ray of the queue
   vboolK front;  ///< the ray arrived on the side the stored normal faces
+};
+
+/// The lanes of a SurfaceBatch one by one, as the SurfacePoint surface_at
+/// gives (but for raw_ns, which only normal shading reads: left zero).
+class SurfaceLanes {
+ public:
+  explicit SurfaceLanes(const SurfaceBatch& s);
+  SurfacePoint point(size_t lane) const;
+  void set(size_t lane, const SurfacePoint& sp);  ///< (raw_ns ignored)
+  void load_into(SurfaceBatch& s) const;          ///< every field but hit, valid
+
+ private:
+  alignas(64) float f_[10][kLanes];  // p, ng, ns (x, y, z each), offset
+  alignas(64) int32_t material_[kLanes], front_[kLanes];
 };
 
 /// Surfaces of rays [i0, i0 + K) of `rays` with their `hits`.

@@ -27,10 +27,11 @@ struct Chunk {
 
 /// Emission the rays see, and the light their BSDF sample found
 /// (light_found_by_bounce; scalar: only lanes that hit emitters, or escaped
-/// where the sky counts).
+/// where the sky counts). The surfaces are the chunk's, `s`.
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
-                  uint32_t lanes, PathState& paths) {
+                  uint32_t lanes, const SurfaceBatch& s, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
+  const SurfaceLanes surfaces(s);
   for_each_lane(lanes, [&](size_t lane) {
     size_t i = i0 + lane;
     uint32_t path = rays.path[i];
@@ -39,7 +40,7 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
     float3 beta{rays.beta_r[i], rays.beta_g[i], rays.beta_b[i]};
     float3 L;
     SurfacePoint sp;
-    if (hit.valid()) sp = surface_at(ctx.scene, ray, hit);
+    if (hit.valid()) sp = surfaces.point(lane);
     if (depth == 0) {
       if (!hit.valid()) {
         if (ctx.rules.counts_escape(0, ctx.sky_visible)) L = sky_radiance(ctx.scene, ray.dir);
@@ -111,7 +112,7 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
     SurfaceBatch s = fetch_surfaces(ctx, rays, hits, i0);
     vboolK emits = s.hit && as_float_mask(gather(mats.emits.data(), s.material) != vintK(0));
     uint32_t emission_lanes = lane_mask(emits) | (escapes_count ? lane_mask(s.valid && !s.hit) : 0);
-    if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, paths);
+    if (emission_lanes) add_emission(ctx, depth, rays, hits, i0, emission_lanes, s, paths);
     if (!direct && !samples_bsdf) continue;
 
     vintK path = xsimd::select(as_int_mask(s.valid), as_index(vuintK::load_aligned(&rays.path[i0])), vintK(0));
