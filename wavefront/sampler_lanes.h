@@ -1,7 +1,9 @@
 // The samplers of K paths, rebuilt from the pixel and sample their PathState
 // keeps: two hashes per K paths, 0.9% of a render's instructions. (Keeping
 // the keys in PathState instead gave the same images natively, but different
-// ones under qemu 7.2's AVX2 emulation, which the emulated-CPU test runs.)
+// ones under qemu 7.2's AVX2 emulation, which the emulated-CPU test runs: its
+// gathers went wrong wherever the compiler put the index in ymm4, which
+// kernels/simd/simd.h now rules out.)
 #pragma once
 
 #include "kernels/transport/path_sampler.h"
