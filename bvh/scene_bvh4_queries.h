@@ -214,7 +214,7 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
     occluded_queue_as_packets(s, rays, blocked);
     return;
   }
-  std::memset(blocked, 0, rays.size);
+  if (rays.size > 0) std::memset(blocked, 0, rays.size);  // an empty queue may come with no array
   for (size_t i = 0; i < rays.size && !spheres.empty(); ++i) {
     const Ray r = rays.ray(i);
     if (!ray_is_traceable(r)) continue;
