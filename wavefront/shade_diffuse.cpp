@@ -5,6 +5,8 @@
 // shares (kernels/transport/path_rules.h, kernels/transport/direct_light.h) taken K lanes wide.
 #include "shade_kernels.h"
 
+#include <optional>
+
 #include "fetch_surfaces.h"
 #include "kernels/transport/bounce_light.h"
 #include "kernels/transport/direct_light.h"
@@ -31,7 +33,8 @@ struct Chunk {
 void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits, size_t i0,
                   uint32_t lanes, const SurfaceBatch& s, PathState& paths) {
   const RenderSettings& rs = ctx.settings;
-  const SurfaceLanes surfaces(s);
+  std::optional<SurfaceLanes> surfaces;  // only where a lane hit (escaped rays need none)
+  if (lanes & lane_mask(s.hit)) surfaces.emplace(s);
   for_each_lane(lanes, [&](size_t lane) {
     size_t i = i0 + lane;
     uint32_t path = rays.path[i];
@@ -40,7 +43,7 @@ void add_emission(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, 
     float3 beta{rays.beta_r[i], rays.beta_g[i], rays.beta_b[i]};
     float3 L;
     SurfacePoint sp;
-    if (hit.valid()) sp = surfaces.point(lane);
+    if (hit.valid()) sp = surfaces->point(lane);
     if (depth == 0) {
       if (!hit.valid()) {
         if (ctx.rules.counts_escape(0, ctx.sky_visible)) L = sky_radiance(ctx.scene, ray.dir);
