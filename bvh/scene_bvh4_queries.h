@@ -16,6 +16,7 @@
 #include "bvh4_traverse.h"
 #include "queue_coherence.h"
 #include "kernels/scene/sphere_intersect.h"
+#include "kernels/scene/sphere_intersect_lanes.h"
 #include "scene_bvh4.h"
 
 #ifndef PT_ISA_NS
@@ -78,16 +79,61 @@ inline bool occluded(const SceneBvh4& s, const Ray& ray) {
   return occluded(s, ray, c);
 }
 
-/// The lanes of `lanes` whose ray (traceable) a sphere blocks, tested lane by
-/// lane: an occlusion packet's first step.
-inline uint32_t sphere_blocked_lanes(std::span<const SceneBvh4::SphereShape> spheres, const Ray* rays, uint32_t lanes) {
+/// The lanes of `lanes` (traceable rays) whose ray a sphere blocks, K rays at
+/// once: any_sphere's answers, bit for bit.
+inline uint32_t spheres_block_lanes(std::span<const SceneBvh4::SphereShape> spheres, const vfloatK (&org)[3],
+                                    const vfloatK (&dir)[3], const vfloatK& tmin, const vfloatK& tmax,
+                                    uint32_t lanes) {
   uint32_t blocked = 0;
-  for (uint32_t m = spheres.empty() ? 0 : lanes; m != 0; m &= m - 1) {
-    const Ray& r = rays[std::countr_zero(m)];
-    if (ray_is_traceable(r) && any_sphere(spheres, r)) blocked |= 1u << std::countr_zero(m);
+  for (const SceneBvh4::SphereShape& sp : spheres) {
+    if (blocked == lanes) break;
+    blocked |= lane_mask(intersect_sphere_lanes(org, dir, tmin, tmax, sp.center, sp.radius).hit) & lanes;
   }
   return blocked;
 }
+
+/// closest_sphere over the lanes of `lanes` (traceable rays) K at a time:
+/// where sphere i lies within [tmin, t), in the spheres' order, the lane's t,
+/// u, v and prim take {t, 0, 0, sphere_prim_id(i)}. The lanes that changed.
+inline uint32_t closest_spheres_lanes(std::span<const SceneBvh4::SphereShape> spheres, const vfloatK (&org)[3],
+                                      const vfloatK (&dir)[3], const vfloatK& tmin, vfloatK& t, vfloatK& u,
+                                      vfloatK& v, vintK& prim, uint32_t lanes) {
+  uint32_t found = 0;
+  for (uint32_t i = 0; i < spheres.size(); ++i) {
+    const SphereLaneHits<vfloatK> h = intersect_sphere_lanes(org, dir, tmin, t, spheres[i].center, spheres[i].radius);
+    const uint32_t m = lane_mask(h.hit) & lanes;
+    if (m == 0) continue;
+    const vboolK on = lanes_of_mask(m);
+    t = xsimd::select(on, h.t, t);
+    u = xsimd::select(on, vfloatK(0.0f), u);
+    v = xsimd::select(on, vfloatK(0.0f), v);
+    prim = xsimd::select(xsimd::bool_cast(on), vintK(static_cast<int32_t>(sphere_prim_id(i))), prim);
+    found |= m;
+  }
+  return found;
+}
+
+/// K rays [i0, i0 + n) of a queue as lanes (lanes past n repeat the first
+/// ray), and which of them are traceable (ray_is_traceable).
+struct QueueLanes {
+  vfloatK org[3], dir[3], tmin, tmax;
+  uint32_t traceable;
+
+  QueueLanes(const RayArrays& q, size_t i0, size_t n) {
+    auto load = [&](const float* a) {
+      if (n == kLanes) return vfloatK::load_unaligned(a + i0);
+      alignas(64) float tail[kLanes];
+      for (size_t l = 0; l < kLanes; ++l) tail[l] = a[i0 + (l < n ? l : 0)];
+      return vfloatK::load_aligned(tail);
+    };
+    for (int a = 0; a < 3; ++a) org[a] = load(q.org[a]), dir[a] = load(q.dir[a]);
+    tmin = q.tmin ? load(q.tmin) : vfloatK(0.0f);
+    tmax = load(q.tmax);
+    vboolK ok = tmin < tmax;  // false for NaN
+    for (int a = 0; a < 3; ++a) ok = ok & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
+    traceable = lane_mask(ok) & lanes_below(n);
+  }
+};
 
 /// The active lanes of a packet whose ray a triangle blocks.
 inline uint32_t triangle_blocked_lanes(const SceneBvh4& s, const RayPacket& p) {
@@ -103,8 +149,12 @@ inline uint32_t occluded_packet(const SceneBvh4& s, const Ray* rays, uint32_t la
       if (occluded(s, rays[std::countr_zero(m)])) blocked |= 1u << std::countr_zero(m);
     return blocked;
   }
-  blocked = sphere_blocked_lanes(s.spheres(), rays, lanes);
-  return blocked | triangle_blocked_lanes(s, load_ray_packet(rays, lanes & ~blocked));
+  RayPacket p = load_ray_packet(rays, lanes);
+  if (!s.spheres().empty()) {
+    blocked = spheres_block_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, p.active);
+    if (blocked != 0) p = load_ray_packet(rays, lanes & ~blocked);
+  }
+  return blocked | triangle_blocked_lanes(s, p);
 }
 
 /// One packet of closest-hit queries: rays[i] -> hits[i] for the lanes of `lanes` (< kLanes).
@@ -118,14 +168,13 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   PacketHits h;
   if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
   else bvh4_intersect_packet<false>(s.bvh(), p, h);
+  // A miss keeps t = tmax and u = v = 0 (the packet leaves them 0), as the spheres' tmax.
+  if (!s.spheres().empty()) closest_spheres_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
   const PacketHitLanes l(p, h);
-  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);
-    Hit& hit = hits[i];
     uint32_t id = static_cast<uint32_t>(l.prim[i]);
-    hit = id != kInvalidId ? Hit{l.t[i], l.u[i], l.v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
-    if (!spheres.empty() && (p.active >> i & 1)) closest_sphere(spheres, rays[i], hit);
+    hits[i] = id != kInvalidId ? Hit{l.t[i], l.u[i], l.v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
   }
 }
 
@@ -161,11 +210,11 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
       if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
       else bvh4_intersect_packet<false>(s.bvh(), p, h);
       // A miss keeps t = tmax and writes u = v = 0 (the packet leaves them 0).
+      if (!spheres.empty()) closest_spheres_lanes(spheres, p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
       const PacketHitLanes l(p, h);
       for (size_t k = 0; k < n; ++k) {
         Hit hit{l.t[k], l.u[k], l.v[k], static_cast<uint32_t>(l.prim[k])};
         if (!hit.valid()) hit = Hit{records[k].tmax, 0.0f, 0.0f, kInvalidId};
-        if (!spheres.empty() && (p.active >> k & 1)) closest_sphere(spheres, records[k], hit);
         hits.store(i0 + k, hit);
       }
     }
@@ -174,12 +223,25 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   bvh4_intersect_stream(s.bvh(), rays, hits, scratch, c);
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   if (spheres.empty()) return;
-  for (size_t i = 0; i < rays.size; ++i) {
-    const Ray r = rays.ray(i);
-    if (!ray_is_traceable(r)) continue;
-    c.primitives_tested(static_cast<uint32_t>(spheres.size()));
-    Hit h = hits.load(i);
-    if (closest_sphere(spheres, r, h)) hits.store(i, h);
+  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {  // each ray under the hit the BVH gave it
+    const size_t n = std::min(kLanes, rays.size - i0);
+    const QueueLanes r(rays, i0, n);
+    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
+    alignas(64) float t[kLanes], u[kLanes], v[kLanes];
+    alignas(64) int32_t prim[kLanes];
+    for (size_t k = 0; k < kLanes; ++k) {
+      const Hit h = hits.load(i0 + (k < n ? k : 0));
+      t[k] = h.t, u[k] = h.u, v[k] = h.v, prim[k] = static_cast<int32_t>(h.prim);
+    }
+    vfloatK vt = vfloatK::load_aligned(t), vu = vfloatK::load_aligned(u), vv = vfloatK::load_aligned(v);
+    vintK vprim = vintK::load_aligned(prim);
+    uint32_t found = closest_spheres_lanes(spheres, r.org, r.dir, r.tmin, vt, vu, vv, vprim, r.traceable);
+    if (found == 0) continue;
+    vt.store_aligned(t), vu.store_aligned(u), vv.store_aligned(v), vprim.store_aligned(prim);
+    for (; found != 0; found &= found - 1) {
+      const size_t k = std::countr_zero(found);
+      hits.store(i0 + k, Hit{t[k], u[k], v[k], static_cast<uint32_t>(prim[k])});
+    }
   }
 }
 
@@ -191,7 +253,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
     const size_t n = std::min(kLanes, rays.size - i0);
     RayPacket p = load_ray_packet(rays, i0, n, records);
-    uint32_t hit = sphere_blocked_lanes(s.spheres(), records, p.active);
+    uint32_t hit = s.spheres().empty() ? 0 : spheres_block_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, p.active);
     p.active &= ~hit;
     hit |= triangle_blocked_lanes(s, p);
     for (size_t k = 0; k < n; ++k) blocked[i0 + k] = hit >> k & 1;
@@ -215,11 +277,12 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
     return;
   }
   if (rays.size > 0) std::memset(blocked, 0, rays.size);  // an empty queue may come with no array
-  for (size_t i = 0; i < rays.size && !spheres.empty(); ++i) {
-    const Ray r = rays.ray(i);
-    if (!ray_is_traceable(r)) continue;
-    c.primitives_tested(static_cast<uint32_t>(spheres.size()));
-    blocked[i] = any_sphere(spheres, r);
+  for (size_t i0 = 0; i0 < rays.size && !spheres.empty(); i0 += kLanes) {
+    const size_t n = std::min(kLanes, rays.size - i0);
+    const QueueLanes r(rays, i0, n);
+    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
+    for (uint32_t m = spheres_block_lanes(spheres, r.org, r.dir, r.tmin, r.tmax, r.traceable); m != 0; m &= m - 1)
+      blocked[i0 + std::countr_zero(m)] = 1;
   }
   bvh4_occluded_stream(s.bvh(), rays, blocked, scratch, c);
 }

@@ -190,6 +190,74 @@ TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsPacketsAndMatchSingleRays
   EXPECT_LE(ties, 2u);
 }
 
+TEST(Bvh4Queue, SpheresAnswerInEveryLaneAsTheScalarTestDoes) {
+  // The queue tracer and the packet queries test spheres K rays at a time;
+  // each lane must give the scalar test's bits where it is most fragile: rays
+  // from inside, grazing rays, origins on the surface, tmin between the two
+  // roots, tmax short of the first, directions far from unit length, huge and
+  // tiny spheres, and untraceable rays, shuffled so that every kind shares
+  // batches with the others.
+  Scene s = built_in_scene();
+  ASSERT_FALSE(s.spheres.empty());
+  s.spheres.push_back({{0.0f, 0.0f, -2000.0f}, 1500.0f, s.spheres[0].material});
+  s.spheres.push_back({{0.1f, 0.3f, 0.2f}, 1e-3f, s.spheres[0].material});
+  SceneBvh4 bvh(s);
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f), share(0.0f, 1.0f);
+  auto random_dir = [&] {
+    for (;;) {
+      float3 d{unit(rng), unit(rng), unit(rng)};
+      if (dot(d, d) > 1e-4f && dot(d, d) <= 1.0f) return normalize(d);
+    }
+  };
+  std::vector<Ray> rays;
+  for (const Sphere& sp : s.spheres)
+    for (int k = 0; k < 300; ++k) {
+      const float3 n = random_dir(), d = random_dir();
+      const float scale = std::array<float, 3>{1.0f, 1e-3f, 1e3f}[k % 3];
+      rays.push_back({sp.center + n * (0.5f * sp.radius * share(rng)), 0.0f, d * scale, kInfinity});  // inside
+      rays.push_back({sp.center + n * sp.radius, 0.0f, d, kInfinity});                                 // on the surface
+      // Grazing: aimed past the centre at the radius, within a few ulps either way.
+      const float3 side = normalize(cross(n, random_dir()));
+      const float3 far = sp.center + n * (3.0f * sp.radius + 1.0f);
+      const float3 target = sp.center + side * (sp.radius * (1.0f + 4e-7f * unit(rng)));
+      rays.push_back({far, 0.0f, (target - far) * scale, kInfinity});
+      // Through the centre from outside, with tmin between the roots or tmax short of the first.
+      const float3 from = sp.center + n * (2.0f * sp.radius + 0.5f);
+      const float3 to_center = (sp.center - from) * scale;
+      const float t_center = 1.0f;  // from + to_center * 1 is the centre
+      rays.push_back({from, t_center * share(rng) * 1.5f, to_center, kInfinity});
+      rays.push_back({from, 0.0f, to_center, t_center * share(rng)});
+    }
+  rays.push_back({{NAN, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, kInfinity});
+  rays.push_back({{0.0f, 0.0f, 0.0f}, 1.0f, {0.0f, 0.0f, 1.0f}, 1.0f});
+  std::shuffle(rays.begin(), rays.end(), rng);
+  QueueScratch scratch;
+  EXPECT_LE(expect_queue_matches_single_rays(bvh, rays, scratch, "sphere rays"), 2u);
+  // The packet queries, K rays at a time.
+  const size_t k = bvh.packet_lanes();
+  std::vector<Hit> hits(k);
+  size_t bad = 0;
+  for (size_t i0 = 0; i0 + k <= rays.size() && bad < 10; i0 += k) {
+    const uint32_t all = k == 32 ? ~0u : (1u << k) - 1u;
+    bvh.intersect_packet(&rays[i0], hits.data(), all);
+    const uint32_t blocked = bvh.occluded_packet(&rays[i0], all);
+    for (size_t j = 0; j < k; ++j) {
+      Hit alone;
+      bvh.intersect(rays[i0 + j], alone);
+      if (!same_bits(alone, hits[j]) && !(alone.valid() && hits[j].valid() && alone.t == hits[j].t)) {
+        ++bad;
+        ADD_FAILURE() << "packet ray " << i0 + j << ": t " << hits[j].t << " prim " << hits[j].prim << ", alone t "
+                      << alone.t << " prim " << alone.prim;
+      }
+      if ((blocked >> j & 1) != uint32_t(bvh.occluded(rays[i0 + j]))) {
+        ++bad;
+        ADD_FAILURE() << "packet ray " << i0 + j << ": blocked " << (blocked >> j & 1);
+      }
+    }
+  }
+}
+
 TEST(Bvh4Queue, SceneExtentIsTheDiagonalOfTheSceneBounds) {
   // One triangle (a leaf as the root) and a tessellated sphere (an inner root).
   Scene one;
