@@ -28,6 +28,7 @@ PT_ALWAYS_INLINE SphereLaneHits<V> intersect_sphere_lanes(const V (&org)[3], con
   const V s = b / a;
   const V lx = fx - dir[0] * s, ly = fy - dir[1] * s, lz = fz - dir[2] * s;
   const V disc = a * (r2 - (lx * lx + ly * ly + lz * lz));
+  if (!xsimd::any(disc >= V(0.0f))) return {typename V::batch_bool_type(false), disc};  // every lane misses
   const V q = -b - xsimd::copysign(xsimd::sqrt(disc), b);
   const auto ok = (disc >= V(0.0f)) & (q != V(0.0f));
   const V t0 = c / q, t1 = q / a;
