@@ -82,8 +82,7 @@ inline bool occluded(const SceneBvh4& s, const Ray& ray) {
 /// The lanes of `lanes` (traceable rays) whose ray a sphere blocks, K rays at
 /// once: any_sphere's answers, bit for bit.
 inline uint32_t spheres_block_lanes(std::span<const SceneBvh4::SphereShape> spheres, const vfloatK (&org)[3],
-                                    const vfloatK (&dir)[3], const vfloatK& tmin, const vfloatK& tmax,
-                                    uint32_t lanes) {
+                                    const vfloatK (&dir)[3], const vfloatK& tmin, const vfloatK& tmax, uint32_t lanes) {
   uint32_t blocked = 0;
   for (const SceneBvh4::SphereShape& sp : spheres) {
     if (blocked == lanes) break;
@@ -96,8 +95,8 @@ inline uint32_t spheres_block_lanes(std::span<const SceneBvh4::SphereShape> sphe
 /// where sphere i lies within [tmin, t), in the spheres' order, the lane's t,
 /// u, v and prim take {t, 0, 0, sphere_prim_id(i)}. The lanes that changed.
 inline uint32_t closest_spheres_lanes(std::span<const SceneBvh4::SphereShape> spheres, const vfloatK (&org)[3],
-                                      const vfloatK (&dir)[3], const vfloatK& tmin, vfloatK& t, vfloatK& u,
-                                      vfloatK& v, vintK& prim, uint32_t lanes) {
+                                      const vfloatK (&dir)[3], const vfloatK& tmin, vfloatK& t, vfloatK& u, vfloatK& v,
+                                      vintK& prim, uint32_t lanes) {
   uint32_t found = 0;
   for (uint32_t i = 0; i < spheres.size(); ++i) {
     const SphereLaneHits<vfloatK> h = intersect_sphere_lanes(org, dir, tmin, t, spheres[i].center, spheres[i].radius);
@@ -169,7 +168,8 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
   else bvh4_intersect_packet<false>(s.bvh(), p, h);
   // A miss keeps t = tmax and u = v = 0 (the packet leaves them 0), as the spheres' tmax.
-  if (!s.spheres().empty()) closest_spheres_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
+  if (!s.spheres().empty())
+    closest_spheres_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
   const PacketHitLanes l(p, h);
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);

@@ -216,7 +216,7 @@ TEST(Bvh4Queue, SpheresAnswerInEveryLaneAsTheScalarTestDoes) {
       const float3 n = random_dir(), d = random_dir();
       const float scale = std::array<float, 3>{1.0f, 1e-3f, 1e3f}[k % 3];
       rays.push_back({sp.center + n * (0.5f * sp.radius * share(rng)), 0.0f, d * scale, kInfinity});  // inside
-      rays.push_back({sp.center + n * sp.radius, 0.0f, d, kInfinity});                                 // on the surface
+      rays.push_back({sp.center + n * sp.radius, 0.0f, d, kInfinity});                                // on the surface
       // Grazing: aimed past the centre at the radius, within a few ulps either way.
       const float3 side = normalize(cross(n, random_dir()));
       const float3 far = sp.center + n * (3.0f * sp.radius + 1.0f);
