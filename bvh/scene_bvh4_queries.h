@@ -80,9 +80,11 @@ inline bool occluded(const SceneBvh4& s, const Ray& ray) {
 }
 
 /// The lanes of `lanes` (traceable rays) whose ray a sphere blocks, K rays at
-/// once: any_sphere's answers, bit for bit.
-inline uint32_t spheres_block_lanes(std::span<const SceneBvh4::SphereShape> spheres, const vfloatK (&org)[3],
-                                    const vfloatK (&dir)[3], const vfloatK& tmin, const vfloatK& tmax, uint32_t lanes) {
+/// once: any_sphere's answers, bit for bit. Out of line, as the other sphere
+/// passes: it is called once per K rays and would grow the queries it sits in.
+[[gnu::noinline]] inline uint32_t spheres_block_lanes(std::span<const SceneBvh4::SphereShape> spheres,
+                                                      const vfloatK (&org)[3], const vfloatK (&dir)[3],
+                                                      const vfloatK& tmin, const vfloatK& tmax, uint32_t lanes) {
   uint32_t blocked = 0;
   for (const SceneBvh4::SphereShape& sp : spheres) {
     if (blocked == lanes) break;
@@ -94,9 +96,11 @@ inline uint32_t spheres_block_lanes(std::span<const SceneBvh4::SphereShape> sphe
 /// closest_sphere over the lanes of `lanes` (traceable rays) K at a time:
 /// where sphere i lies within [tmin, t), in the spheres' order, the lane's t,
 /// u, v and prim take {t, 0, 0, sphere_prim_id(i)}. The lanes that changed.
-inline uint32_t closest_spheres_lanes(std::span<const SceneBvh4::SphereShape> spheres, const vfloatK (&org)[3],
-                                      const vfloatK (&dir)[3], const vfloatK& tmin, vfloatK& t, vfloatK& u, vfloatK& v,
-                                      vintK& prim, uint32_t lanes) {
+/// Out of line, likewise.
+[[gnu::noinline]] inline uint32_t closest_spheres_lanes(std::span<const SceneBvh4::SphereShape> spheres,
+                                                        const vfloatK (&org)[3], const vfloatK (&dir)[3],
+                                                        const vfloatK& tmin, vfloatK& t, vfloatK& u, vfloatK& v,
+                                                        vintK& prim, uint32_t lanes) {
   uint32_t found = 0;
   for (uint32_t i = 0; i < spheres.size(); ++i) {
     const SphereLaneHits<vfloatK> h = intersect_sphere_lanes(org, dir, tmin, t, spheres[i].center, spheres[i].radius);
@@ -178,6 +182,49 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   }
 }
 
+/// The spheres' closest hits over a queue whose hits the tree has given, K
+/// rays at a time (closest_sphere's answers). Kept out of line, as the
+/// packets below: inlined, it changed how the stream's parts were compiled.
+template <class C>
+[[gnu::noinline]] void closest_spheres_of_queue(std::span<const SceneBvh4::SphereShape> spheres, const RayArrays& rays,
+                                                const HitArrays& hits, C& c) {
+  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {  // each ray under the hit the tree gave it
+    const size_t n = std::min(kLanes, rays.size - i0);
+    const QueueLanes r(rays, i0, n);
+    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
+    alignas(64) float t[kLanes], u[kLanes], v[kLanes];
+    alignas(64) int32_t prim[kLanes];
+    for (size_t k = 0; k < kLanes; ++k) {
+      const Hit h = hits.load(i0 + (k < n ? k : 0));
+      t[k] = h.t, u[k] = h.u, v[k] = h.v, prim[k] = static_cast<int32_t>(h.prim);
+    }
+    vfloatK vt = vfloatK::load_aligned(t), vu = vfloatK::load_aligned(u), vv = vfloatK::load_aligned(v);
+    vintK vprim = vintK::load_aligned(prim);
+    uint32_t found = closest_spheres_lanes(spheres, r.org, r.dir, r.tmin, vt, vu, vv, vprim, r.traceable);
+    if (found == 0) continue;
+    vt.store_aligned(t), vu.store_aligned(u), vv.store_aligned(v), vprim.store_aligned(prim);
+    for (; found != 0; found &= found - 1) {
+      const size_t k = std::countr_zero(found);
+      hits.store(i0 + k, Hit{t[k], u[k], v[k], static_cast<uint32_t>(prim[k])});
+    }
+  }
+}
+
+/// blocked[i] = 1 for every ray of a queue that a sphere blocks, K rays at a
+/// time (any_sphere's answers); the others are left as they are. Out of line
+/// for the same reason.
+template <class C>
+[[gnu::noinline]] void spheres_block_queue(std::span<const SceneBvh4::SphereShape> spheres, const RayArrays& rays,
+                                           uint8_t* blocked, C& c) {
+  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
+    const size_t n = std::min(kLanes, rays.size - i0);
+    const QueueLanes r(rays, i0, n);
+    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
+    for (uint32_t m = spheres_block_lanes(spheres, r.org, r.dir, r.tmin, r.tmax, r.traceable); m != 0; m &= m - 1)
+      blocked[i0 + std::countr_zero(m)] = 1;
+  }
+}
+
 /// Whether the queue comes in runs of K rays that packets trace faster than
 /// a stream does (queue_coherence.h).
 inline bool in_coherent_runs(const SceneBvh4& s, const RayArrays& rays) {
@@ -223,26 +270,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   bvh4_intersect_stream(s.bvh(), rays, hits, scratch, c);
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
   if (spheres.empty()) return;
-  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {  // each ray under the hit the BVH gave it
-    const size_t n = std::min(kLanes, rays.size - i0);
-    const QueueLanes r(rays, i0, n);
-    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
-    alignas(64) float t[kLanes], u[kLanes], v[kLanes];
-    alignas(64) int32_t prim[kLanes];
-    for (size_t k = 0; k < kLanes; ++k) {
-      const Hit h = hits.load(i0 + (k < n ? k : 0));
-      t[k] = h.t, u[k] = h.u, v[k] = h.v, prim[k] = static_cast<int32_t>(h.prim);
-    }
-    vfloatK vt = vfloatK::load_aligned(t), vu = vfloatK::load_aligned(u), vv = vfloatK::load_aligned(v);
-    vintK vprim = vintK::load_aligned(prim);
-    uint32_t found = closest_spheres_lanes(spheres, r.org, r.dir, r.tmin, vt, vu, vv, vprim, r.traceable);
-    if (found == 0) continue;
-    vt.store_aligned(t), vu.store_aligned(u), vv.store_aligned(v), vprim.store_aligned(prim);
-    for (; found != 0; found &= found - 1) {
-      const size_t k = std::countr_zero(found);
-      hits.store(i0 + k, Hit{t[k], u[k], v[k], static_cast<uint32_t>(prim[k])});
-    }
-  }
+  closest_spheres_of_queue(spheres, rays, hits, c);
 }
 
 /// blocked[i] = occluded(rays.ray(i)) for every ray of a queue, as packets
@@ -277,13 +305,7 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
     return;
   }
   if (rays.size > 0) std::memset(blocked, 0, rays.size);  // an empty queue may come with no array
-  for (size_t i0 = 0; i0 < rays.size && !spheres.empty(); i0 += kLanes) {
-    const size_t n = std::min(kLanes, rays.size - i0);
-    const QueueLanes r(rays, i0, n);
-    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
-    for (uint32_t m = spheres_block_lanes(spheres, r.org, r.dir, r.tmin, r.tmax, r.traceable); m != 0; m &= m - 1)
-      blocked[i0 + std::countr_zero(m)] = 1;
-  }
+  if (!spheres.empty()) spheres_block_queue(spheres, rays, blocked, c);
   bvh4_occluded_stream(s.bvh(), rays, blocked, scratch, c);
 }
 
