@@ -116,28 +116,6 @@ inline bool occluded(const SceneBvh4& s, const Ray& ray) {
   return found;
 }
 
-/// K rays [i0, i0 + n) of a queue as lanes (lanes past n repeat the first
-/// ray), and which of them are traceable (ray_is_traceable).
-struct QueueLanes {
-  vfloatK org[3], dir[3], tmin, tmax;
-  uint32_t traceable;
-
-  QueueLanes(const RayArrays& q, size_t i0, size_t n) {
-    auto load = [&](const float* a) {
-      if (n == kLanes) return vfloatK::load_unaligned(a + i0);
-      alignas(64) float tail[kLanes];
-      for (size_t l = 0; l < kLanes; ++l) tail[l] = a[i0 + (l < n ? l : 0)];
-      return vfloatK::load_aligned(tail);
-    };
-    for (int a = 0; a < 3; ++a) org[a] = load(q.org[a]), dir[a] = load(q.dir[a]);
-    tmin = q.tmin ? load(q.tmin) : vfloatK(0.0f);
-    tmax = load(q.tmax);
-    vboolK ok = tmin < tmax;  // false for NaN
-    for (int a = 0; a < 3; ++a) ok = ok & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
-    traceable = lane_mask(ok) & lanes_below(n);
-  }
-};
-
 /// The active lanes of a packet whose ray a triangle blocks.
 inline uint32_t triangle_blocked_lanes(const SceneBvh4& s, const RayPacket& p) {
   return p.uniform ? bvh4_occluded_packet<true>(s.bvh(), p) : bvh4_occluded_packet<false>(s.bvh(), p);
@@ -190,8 +168,9 @@ template <class C>
                                                 const HitArrays& hits, C& c) {
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {  // each ray under the hit the tree gave it
     const size_t n = std::min(kLanes, rays.size - i0);
-    const QueueLanes r(rays, i0, n);
-    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
+    Ray records[kLanes];
+    const RayPacket r = load_ray_packet(rays, i0, n, records);  // active: the traceable rays
+    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.active)));
     alignas(64) float t[kLanes], u[kLanes], v[kLanes];
     alignas(64) int32_t prim[kLanes];
     for (size_t k = 0; k < kLanes; ++k) {
@@ -200,7 +179,7 @@ template <class C>
     }
     vfloatK vt = vfloatK::load_aligned(t), vu = vfloatK::load_aligned(u), vv = vfloatK::load_aligned(v);
     vintK vprim = vintK::load_aligned(prim);
-    uint32_t found = closest_spheres_lanes(spheres, r.org, r.dir, r.tmin, vt, vu, vv, vprim, r.traceable);
+    uint32_t found = closest_spheres_lanes(spheres, r.org, r.dir, r.tmin, vt, vu, vv, vprim, r.active);
     if (found == 0) continue;
     vt.store_aligned(t), vu.store_aligned(u), vv.store_aligned(v), vprim.store_aligned(prim);
     for (; found != 0; found &= found - 1) {
@@ -218,9 +197,10 @@ template <class C>
                                            uint8_t* blocked, C& c) {
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
     const size_t n = std::min(kLanes, rays.size - i0);
-    const QueueLanes r(rays, i0, n);
-    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.traceable)));
-    for (uint32_t m = spheres_block_lanes(spheres, r.org, r.dir, r.tmin, r.tmax, r.traceable); m != 0; m &= m - 1)
+    Ray records[kLanes];
+    const RayPacket r = load_ray_packet(rays, i0, n, records);  // active: the traceable rays
+    c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.active)));
+    for (uint32_t m = spheres_block_lanes(spheres, r.org, r.dir, r.tmin, r.tmax, r.active); m != 0; m &= m - 1)
       blocked[i0 + std::countr_zero(m)] = 1;
   }
 }
