@@ -8,9 +8,10 @@
 namespace pt::wf {
 namespace {
 
-Vec3T<vfloatK> gather3(const float* f, vintK index) {
-  vintK i3 = index * vintK(3);
-  return {gather(f, i3), gather(f, i3 + vintK(1)), gather(f, i3 + vintK(2))};
+Vec3T<vfloatK> vertex_field(const float* f, vintK vertex, const TriangleArrays& tris) {
+  vfloatK c[3];
+  gather_records3(f, vertex, tris.vertex_count, c);
+  return {c[0], c[1], c[2]};
 }
 
 /// Overwrites the sphere lanes with the scalar reconstruction.
@@ -37,14 +38,14 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
   s.hit = hit;
 
   vintK tri = xsimd::select(as_int_mask(triangle), xsimd::bitwise_cast<vintK>(prim), vintK(0));
-  vintK t3 = tri * vintK(3);
-  vintK v0 = gather(tris.indices, t3), v1 = gather(tris.indices, t3 + vintK(1)),
-        v2 = gather(tris.indices, t3 + vintK(2));
+  vintK v[3];
+  gather_records3(tris.indices, tri, tris.triangle_count, v);
   Vec3T<vfloatK> dir{vfloatK::load_aligned(&rays.dir_x[i0]), vfloatK::load_aligned(&rays.dir_y[i0]),
                      vfloatK::load_aligned(&rays.dir_z[i0])};
   TriangleSurfaceT<vfloatK> ts =
-      triangle_surface<vfloatK>(gather3(tris.positions, v0), gather3(tris.positions, v1), gather3(tris.positions, v2),
-                                gather3(tris.normals, v0), gather3(tris.normals, v1), gather3(tris.normals, v2),
+      triangle_surface<vfloatK>(vertex_field(tris.positions, v[0], tris), vertex_field(tris.positions, v[1], tris),
+                                vertex_field(tris.positions, v[2], tris), vertex_field(tris.normals, v[0], tris),
+                                vertex_field(tris.normals, v[1], tris), vertex_field(tris.normals, v[2], tris),
                                 vfloatK::load_aligned(&hits.u[i0]), vfloatK::load_aligned(&hits.v[i0]), dir);
   s.p = ts.p;
   s.ng = ts.ng;

@@ -1,6 +1,8 @@
 // WaveContext setup.
 #include "wave_context.h"
 
+#include <algorithm>
+
 #include "kernels/transport/shading.h"
 
 namespace pt::wf {
@@ -51,6 +53,8 @@ TriangleArrays::TriangleArrays(const Scene& s) {
   positions = empty ? kZeroFloats : &s.positions.data()->x;
   normals = empty ? kZeroFloats : &s.normals.data()->x;
   material = empty ? kZeroIndices : reinterpret_cast<const int32_t*>(s.triangle_material.data());
+  triangle_count = empty ? 1 : static_cast<int32_t>(s.triangles.size());
+  vertex_count = empty ? 1 : static_cast<int32_t>(std::min(s.positions.size(), s.normals.size()));
 }
 
 WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs)

@@ -30,10 +30,11 @@ struct MaterialArrays {
 /// Triangle data as raw arrays for gathers. Never null: an empty scene points
 /// at one zeroed dummy triangle so that masked-off gather lanes stay in bounds.
 struct TriangleArrays {
-  const int32_t* indices;   ///< 3 per triangle
-  const float* positions;   ///< 3 per vertex
-  const float* normals;     ///< 3 per vertex
-  const int32_t* material;  ///< 1 per triangle
+  const int32_t* indices;                ///< 3 per triangle
+  const float* positions;                ///< 3 per vertex
+  const float* normals;                  ///< 3 per vertex
+  const int32_t* material;               ///< 1 per triangle
+  int32_t triangle_count, vertex_count;  ///< records of indices, of positions and normals
 
   explicit TriangleArrays(const Scene& s);
 };

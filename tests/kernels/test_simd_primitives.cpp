@@ -101,6 +101,38 @@ TEST(SimdPrimitives, GathersReadEveryLanesOwnIndex) {
   }
 }
 
+// The records are read with 16-byte loads where that stays inside the array
+// (the sanitizer build checks each load against the exact allocation), and
+// every bit pattern, NaNs included, must arrive unchanged.
+TEST(SimdPrimitives, RecordGathersReadEveryLanesOwnRecordUpToTheLast) {
+  const size_t k = probes().lanes;
+  std::mt19937 rng(11);
+  for (int32_t records : {1, 2, 5, 97, 4096}) {
+    std::vector<int32_t> bits(3 * size_t(records));  // exactly the records, no slack
+    for (int32_t& b : bits) b = int32_t(rng());
+    bits[0] = int32_t(0x7fc00001u), bits[1] = int32_t(0xffffffffu);  // NaN patterns
+    std::vector<float> floats(bits.size());
+    std::memcpy(floats.data(), bits.data(), bits.size() * sizeof(float));
+    std::vector<int32_t> index(k), out_bits(3 * k), float_bits(3 * k);
+    std::vector<float> out_floats(3 * k);
+    for (int rep = 0; rep < 2000; ++rep) {
+      const int kind = rep % 4;  // random; with the last record; all the last; all the first
+      for (size_t l = 0; l < k; ++l)
+        index[l] = kind == 2 ? records - 1 : kind == 3 ? 0 : int32_t(rng() % uint32_t(records));
+      if (kind == 1) index[rng() % k] = records - 1;
+      probes().gather_int_records3(bits.data(), index.data(), records, out_bits.data());
+      probes().gather_records3(floats.data(), index.data(), records, out_floats.data());
+      std::memcpy(float_bits.data(), out_floats.data(), float_bits.size() * sizeof(float));
+      for (size_t c = 0; c < 3; ++c)
+        for (size_t l = 0; l < k; ++l) {
+          const int32_t want = bits[3 * size_t(index[l]) + c];
+          ASSERT_EQ(out_bits[c * k + l], want) << "records " << records << " lane " << l << " field " << c;
+          ASSERT_EQ(float_bits[c * k + l], want) << "records " << records << " lane " << l << " field " << c;
+        }
+    }
+  }
+}
+
 TEST(SimdPrimitives, HorizontalMinimumAndMaximumSeeEveryLane) {
   const size_t k = probes().lanes;
   std::vector<float> v(k);

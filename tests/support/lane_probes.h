@@ -36,6 +36,10 @@ struct LaneProbes {
   void (*compress)(const float* in, uint32_t mask, float* out);
   /// out[i] = base[index[i]] over K lanes.
   void (*gather)(const float* base, const int32_t* index, float* out);
+  /// gather_records3 over K lanes: out[c * K + i] = base[3 * index[i] + c], base holding `records` records
+  /// (floats, and the same as 32-bit words).
+  void (*gather_records3)(const float* base, const int32_t* index, int32_t records, float* out);
+  void (*gather_int_records3)(const int32_t* base, const int32_t* index, int32_t records, int32_t* out);
   /// Smallest and largest of K values.
   float (*reduce_min)(const float* in);
   float (*reduce_max)(const float* in);

@@ -62,6 +62,13 @@ void gather_floats(const float* base, const int32_t* index, float* out) {
   gather(base, vintK::load_unaligned(index)).store_unaligned(out);
 }
 
+template <class T, class V>
+void records3(const T* base, const int32_t* index, int32_t records, T* out) {
+  V c[3];
+  gather_records3(base, vintK::load_unaligned(index), records, c);
+  for (size_t k = 0; k < 3; ++k) c[k].store_unaligned(out + k * kLanes);
+}
+
 float min_of(const float* in) { return reduce_min_k(vfloatK::load_unaligned(in)); }
 float max_of(const float* in) { return reduce_max_k(vfloatK::load_unaligned(in)); }
 
@@ -86,6 +93,8 @@ const test::LaneProbes kLaneProbes = {
     .less_through_int_mask = test::less_through_int_mask,
     .compress = test::compress,
     .gather = test::gather_floats,
+    .gather_records3 = test::records3<float, vfloatK>,
+    .gather_int_records3 = test::records3<int32_t, vintK>,
     .reduce_min = test::min_of,
     .reduce_max = test::max_of,
     .compact_rays = test::compact<wf::RayQueue>,
