@@ -4,7 +4,8 @@
 // SIMD instruction, and the rays that enter it are compacted into the child's
 // list, each with the constants of its slab test, so that the next level
 // loads them as vectors. A leaf that many rays reach tests each of its
-// triangles against K rays at a time. The rays of a list that has thinned
+// triangles against K rays at a time; a chunk of K/2 rays or fewer takes it
+// ray by ray, one or two blocks per test. The rays of a list that has thinned
 // below kStreamMinRays go on alone from that node: their walks are collected
 // and run kWalksInFlight at a time, interleaved (bvh4_interleaved.h), each
 // under its ray's nearest hit at the time it starts.
@@ -34,6 +35,12 @@ namespace stream_detail {
 
 /// Rays a list needs for its node or leaf to be tested across rays.
 inline constexpr uint32_t kStreamMinRays = kLanes == 16 ? 8 : kLanes == 8 ? 4 : 2;
+
+/// Rays of a leaf's chunk of K at or below which each ray takes the leaf
+/// alone (four or eight triangles per test, as a walk takes a leaf)
+/// instead of every triangle being tested across the chunk's K lanes, most of
+/// them idle.
+inline constexpr uint32_t kLeafRaysAlone = kLanes / 2;
 
 /// The fields of a list, each an array of `room` 32-bit words: the ray's index
 /// in the queue, then the constants of its slab test (NodeRay's) and its tmin.
@@ -276,17 +283,31 @@ inline void count_leaf(C& counters, const TriangleBlock4* blocks, uint32_t n_blo
 }
 
 /// Closest hits of the listed rays in a leaf, K rays at a time, every triangle
-/// in block order; improves `hits` where nearer.
+/// in block order (a chunk of at most kLeafRaysAlone rays: ray by ray, as a
+/// walk tests the leaf); improves `hits` where nearer.
 template <bool kTmin, class C>
 inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const HitArrays& hits,
                          ListArena& arena, C& counters) {
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
   const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
-  count_leaf(counters, blocks, n_blocks, e.count);
   const float* ids = arena.field(e, kId);
   const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
   for (uint32_t i = 0; i < e.count; i += kLanes) {
-    const uint32_t valid_lanes = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
+    const uint32_t rays_here = std::min<uint32_t>(kLanes, e.count - i);
+    if (rays_here <= kLeafRaysAlone) {  // each ray alone, under its nearest hit so far
+      for (uint32_t k = 0; k < rays_here; ++k) {
+        const uint32_t r_id = std::bit_cast<uint32_t>(ids[i + k]);
+        const MtBlockRay br(rays.ray(r_id));
+        Hit hit = hits.load(r_id);
+        float tmax = hit.t;
+        vfloat4 vtmax(tmax);
+        intersect_leaf_closest<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, tmax, vtmax, hit, counters);
+        if (hit.t < hits.t[r_id]) hits.store(r_id, hit);
+      }
+      continue;
+    }
+    count_leaf(counters, blocks, n_blocks, rays_here);
+    const uint32_t valid_lanes = lanes_below(rays_here);
     const vintK id = load_ids(ids + i, valid_lanes);
     const vboolK valid = lanes_of_mask(valid_lanes);
     const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
@@ -321,14 +342,14 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
   }
 }
 
-/// Any hit of the listed rays that are not yet blocked in a leaf; blocked rays
-/// get live tmax = -inf and blocked[i] = 1.
+/// Any hit of the listed rays that are not yet blocked in a leaf, K rays at a
+/// time (a chunk of at most kLeafRaysAlone live rays: ray by ray); blocked
+/// rays get live tmax = -inf and blocked[i] = 1.
 template <bool kTmin, class C>
 inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, ListArena& arena, float* live_tmax,
                      uint8_t* blocked, C& counters) {
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
   const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
-  count_leaf(counters, blocks, n_blocks, e.count);
   const float* ids = arena.field(e, kId);
   const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
   for (uint32_t i = 0; i < e.count; i += kLanes) {
@@ -337,6 +358,22 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
     const vfloatK tmax = gather(live_tmax, id);
     const uint32_t live = valid & lane_mask(tmax != vfloatK(-INFINITY));
     if (live == 0) continue;
+    if (static_cast<uint32_t>(std::popcount(live)) <= kLeafRaysAlone) {  // each ray alone
+      alignas(64) int32_t lane_id[kLanes];
+      alignas(64) float lane_tmax[kLanes];
+      id.store_aligned(lane_id);
+      tmax.store_aligned(lane_tmax);
+      for (uint32_t m = live; m; m &= m - 1) {
+        const uint32_t l = std::countr_zero(m), r_id = static_cast<uint32_t>(lane_id[l]);
+        const MtBlockRay br(rays.ray(r_id));
+        if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, vfloat4(lane_tmax[l]), counters)) {
+          live_tmax[r_id] = -INFINITY;
+          blocked[r_id] = 1;
+        }
+      }
+      continue;
+    }
+    count_leaf(counters, blocks, n_blocks, static_cast<uint32_t>(std::popcount(live)));
     const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
     uint32_t hit = 0;
     for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
