@@ -5,14 +5,16 @@
 // list, each with the constants of its slab test, so that the next level
 // loads them as vectors. A leaf that many rays reach tests each of its
 // triangles against K rays at a time; a chunk of K/2 rays or fewer takes it
-// ray by ray, one or two blocks per test. The rays of a list that has thinned
+// ray by ray, through the walks' own leaf tests (one or two blocks per test).
+// The rays of a list that has thinned
 // below kStreamMinRays go on alone from that node: their walks are collected
 // and run kWalksInFlight at a time, interleaved (bvh4_interleaved.h), each
 // under its ray's nearest hit at the time it starts.
 // Every ray gets the hit it gets alone, bit for bit: the triangle test does
 // the same operations per lane as the block test, and a leaf's triangles are
-// taken in the block test's order. Only which of two different triangles at
-// exactly the same t is reported may differ, as with packets.
+// taken in the block test's order, each block's four under the nearest t from
+// before it, as the block test takes them. Only which of two different
+// triangles at exactly the same t is reported may differ, as with packets.
 // Moller-Trumbore leaves only.
 #pragma once
 
@@ -36,10 +38,10 @@ namespace stream_detail {
 /// Rays a list needs for its node or leaf to be tested across rays.
 inline constexpr uint32_t kStreamMinRays = kLanes == 16 ? 8 : kLanes == 8 ? 4 : 2;
 
-/// Rays of a leaf's chunk of K at or below which each ray takes the leaf
-/// alone (four or eight triangles per test, as a walk takes a leaf)
-/// instead of every triangle being tested across the chunk's K lanes, most of
-/// them idle.
+/// Rays of a leaf's chunk of K (its rays still to be answered: any hit skips
+/// the blocked ones) at or below which each ray takes the leaf alone, through
+/// a walk's leaf test (four or eight triangles per test), instead of every
+/// triangle being tested across the chunk's K lanes, most of them idle.
 inline constexpr uint32_t kLeafRaysAlone = kLanes / 2;
 
 /// The fields of a list, each an array of `room` 32-bit words: the ray's index
@@ -295,14 +297,15 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
   for (uint32_t i = 0; i < e.count; i += kLanes) {
     const uint32_t rays_here = std::min<uint32_t>(kLanes, e.count - i);
     if (rays_here <= kLeafRaysAlone) {  // each ray alone, under its nearest hit so far
+      const uint32_t* alone = arena.ids(e) + i;
       for (uint32_t k = 0; k < rays_here; ++k) {
-        const uint32_t r_id = std::bit_cast<uint32_t>(ids[i + k]);
-        const MtBlockRay br(rays.ray(r_id));
-        Hit hit = hits.load(r_id);
-        float tmax = hit.t;
+        const MtBlockRay br(rays.ray(alone[k]));
+        Hit hit = hits.load(alone[k]);
+        const float t_start = hit.t;
+        float tmax = t_start;
         vfloat4 vtmax(tmax);
         intersect_leaf_closest<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, tmax, vtmax, hit, counters);
-        if (hit.t < hits.t[r_id]) hits.store(r_id, hit);
+        if (hit.t < t_start) hits.store(alone[k], hit);
       }
       continue;
     }
@@ -314,17 +317,23 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
     vfloatK t = gather(hits.t, id), u(0.0f), v(0.0f);
     vintK prim(-1);
     vboolK found(false);
-    for (uint32_t b = 0; b < n_blocks; ++b)
+    for (uint32_t b = 0; b < n_blocks; ++b) {
+      // A block's four triangles under the nearest t from before the block,
+      // as the block test takes them (its tmax also enters the test before
+      // the division); the nearest of them wins, the first on a tie.
+      const vfloatK t_block = t;
       for (int l = 0; l < 4; ++l) {
         if (blocks[b].prim[l] == kInvalidId) continue;
         LaneHits<vfloatK> h;
-        if (!triangle_lanes(blocks[b], l, r, valid, t, h)) continue;
-        t = xsimd::select(h.hit, h.t, t);
-        u = xsimd::select(h.hit, h.u, u);
-        v = xsimd::select(h.hit, h.v, v);
-        prim = xsimd::select(xsimd::bool_cast(h.hit), vintK(static_cast<int32_t>(blocks[b].prim[l])), prim);
-        found = found | h.hit;
+        if (!triangle_lanes(blocks[b], l, r, valid, t_block, h)) continue;
+        const vboolK nearer = h.hit & (h.t < t);
+        t = xsimd::select(nearer, h.t, t);
+        u = xsimd::select(nearer, h.u, u);
+        v = xsimd::select(nearer, h.v, v);
+        prim = xsimd::select(xsimd::bool_cast(nearer), vintK(static_cast<int32_t>(blocks[b].prim[l])), prim);
+        found = found | nearer;
       }
+    }
     if (uint32_t m = lane_mask(found)) {
       alignas(64) int32_t lane_id[kLanes], lane_prim[kLanes];
       alignas(64) float lane_t[kLanes], lane_u[kLanes], lane_v[kLanes];
@@ -359,26 +368,23 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
     const uint32_t live = valid & lane_mask(tmax != vfloatK(-INFINITY));
     if (live == 0) continue;
     if (static_cast<uint32_t>(std::popcount(live)) <= kLeafRaysAlone) {  // each ray alone
-      alignas(64) int32_t lane_id[kLanes];
-      alignas(64) float lane_tmax[kLanes];
-      id.store_aligned(lane_id);
-      tmax.store_aligned(lane_tmax);
+      const uint32_t* alone = arena.ids(e) + i;
       for (uint32_t m = live; m; m &= m - 1) {
-        const uint32_t l = std::countr_zero(m), r_id = static_cast<uint32_t>(lane_id[l]);
+        const uint32_t r_id = alone[std::countr_zero(m)];
         const MtBlockRay br(rays.ray(r_id));
-        if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, vfloat4(lane_tmax[l]), counters)) {
+        if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, vfloat4(live_tmax[r_id]), counters)) {
           live_tmax[r_id] = -INFINITY;
           blocked[r_id] = 1;
         }
       }
       continue;
     }
-    count_leaf(counters, blocks, n_blocks, static_cast<uint32_t>(std::popcount(live)));
     const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
     uint32_t hit = 0;
     for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
       for (int l = 0; l < 4 && hit != live; ++l) {
         if (blocks[b].prim[l] == kInvalidId) continue;
+        if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(live & ~hit));
         LaneHits<vfloatK> h;
         if (triangle_lanes(blocks[b], l, r, lanes_of_mask(live & ~hit), tmax, h)) hit |= lane_mask(h.hit);
       }

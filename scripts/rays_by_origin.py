@@ -2,13 +2,14 @@
 """Splits a ray file (trace_rays' format: float32 ox, oy, oz, tmin, dx, dy, dz,
 tmax per ray) by where each ray starts, so that trace_rays can time each kind
 apart: on one of the six faces of the scene's bounds (a Cornell box's walls:
-`x-`, `x+`, `y-`, `y+`, `z-`, `z+`, within EPS of the face), or inside
-(`inner`). With --box, the rays that start on a face are split further by
+`x-`, `x+`, `y-`, `y+`, `z-`, `z+`: the nearest face, if it lies within EPS,
+by default 1e-4 of the bounds' diagonal), or inside (`inner`, as are NaN
+origins). With --box, the rays that start on a face are split further by
 whether their segment [tmin, tmax] enters that box (`_box`) or not. The
 bounds are those of the triangle file (float32, 9 per triangle). Queue order
 is kept within each subset.
 
-  rays_by_origin.py SCENE.tris RAYS.rays OUT_PREFIX [--box x0 y0 z0 x1 y1 z1] [--eps 0.02]
+  rays_by_origin.py SCENE.tris RAYS.rays OUT_PREFIX [--box x0 y0 z0 x1 y1 z1] [--eps E]
 
 E.g. the later shadow rays of a CBbunny render, those from the floor split by
 whether they cross the bunny's box:
@@ -22,10 +23,15 @@ import array
 import sys
 
 
-def read_floats(path):
-    values = array.array("f")
+def read_floats(path, per_item, what):
     with open(path, "rb") as f:
-        values.frombytes(f.read())
+        data = f.read()
+    if len(data) % (4 * per_item):
+        sys.exit(f"rays_by_origin: {path}: not a whole number of {per_item}-float {what}")
+    values = array.array("f")
+    values.frombytes(data)
+    if sys.byteorder == "big":  # the files are little-endian
+        values.byteswap()
     return values
 
 
@@ -57,24 +63,23 @@ def main():
     p.add_argument("rays")
     p.add_argument("prefix")
     p.add_argument("--box", type=float, nargs=6, metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"))
-    p.add_argument("--eps", type=float, default=0.02, help="distance from a face that counts as on it")
+    p.add_argument("--eps", type=float, help="distance from a face that counts as on it (1e-4 of the diagonal)")
     args = p.parse_args()
-    lo, hi = bounds_of(read_floats(args.tris))
-    rays = read_floats(args.rays)
-    if len(rays) % 8:
-        sys.exit(f"rays_by_origin: {args.rays}: not a whole number of 8-float rays")
+    tris = read_floats(args.tris, 9, "triangles")
+    if not tris:
+        sys.exit(f"rays_by_origin: {args.tris}: no triangles")
+    lo, hi = bounds_of(tris)
+    eps = args.eps if args.eps is not None else 1e-4 * sum((h - l) ** 2 for l, h in zip(lo, hi)) ** 0.5
+    if args.box and any(args.box[a] > args.box[a + 3] for a in range(3)):
+        sys.exit("rays_by_origin: --box: each lower corner coordinate must not exceed the upper one")
+    rays = read_floats(args.rays, 8, "rays")
     subsets = {}
     for i in range(0, len(rays), 8):
         r = rays[i:i + 8]
         org = r[0:3]
-        name = "inner"
-        for a, axis in enumerate("xyz"):
-            if org[a] - lo[a] < args.eps:
-                name = axis + "-"
-                break
-            if hi[a] - org[a] < args.eps:
-                name = axis + "+"
-                break
+        distance, face = min((abs(org[a] - bound[a]), "xyz"[a] + sign)
+                             for a in range(3) for bound, sign in ((lo, "-"), (hi, "+")))
+        name = face if distance <= eps and all(c == c for c in org) else "inner"
         if args.box and name != "inner":
             crosses = segment_enters(org, r[4:7], r[3], r[7], args.box[0:3], args.box[3:6])
             name += "_box" if crosses else "_clear"
