@@ -8,7 +8,9 @@
 namespace pt::wf {
 namespace {
 
-Vec3T<vfloatK> vertex_field(const float* f, vintK vertex, const TriangleArrays& tris) {
+/// Forced inline: called out of line at AVX2, each of its six calls spilled
+/// the caller's live vector registers.
+PT_ALWAYS_INLINE Vec3T<vfloatK> vertex_field(const float* f, vintK vertex, const TriangleArrays& tris) {
   vfloatK c[3];
   gather_records3(f, vertex, tris.vertex_count, c);
   return {c[0], c[1], c[2]};
