@@ -123,6 +123,10 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
     const vfloatK zero(0.0f);
     vboolK reflects = s.hit && (albedo.x != zero || albedo.y != zero || albedo.z != zero);
     if (!ctx.diffuse_only()) reflects = reflects && as_float_mask(gather(mats.kind.data(), s.material) == vintK(0));
+    // A chunk where no lane reflects (emitters hit, rays escaped: the hit-point
+    // order puts them together) samples nothing: every light sample, probe and
+    // continuation of it would be masked off.
+    if (!lane_mask(reflects)) continue;
     Chunk c{{s.p, s.ng, s.ns, s.offset, reflects},
             xsimd::bitwise_cast<vuintK>(path),
             sampler_of_paths(rs, paths, path),
