@@ -32,6 +32,12 @@ inline T select(mask_t<T> m, T a, T b) {
   if constexpr (is_scalar_v<T>) return m ? a : b;
   else return xsimd::select(m, a, b);
 }
+/// Whether any lane of the mask is set (the bool itself for a scalar).
+template <class M>
+inline bool any(M m) {
+  if constexpr (std::is_same_v<M, bool>) return m;
+  else return xsimd::any(m);
+}
 template <class T>
 inline T sqrt(T a) {
   if constexpr (is_scalar_v<T>) return std::sqrt(a);

@@ -8,6 +8,7 @@
 // (wavefront). Random dimensions: sample_dimensions.h.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "kernels/math/frame.h"
@@ -96,6 +97,33 @@ inline DeltaLightSampleT<T> sample_point_light(const PointLight& l, const Vec3T<
   return {{d.x * inv, d.y * inv, d.z * inv}, dist, dist > T(0.0f)};
 }
 
+/// The lanes whose point p may receive light from the area light: false only
+/// where every point q of the parallelogram lies behind its emitting side
+/// ((q - p) . direction >= 0 there, so that no sample faces p) or below the
+/// plane of ns or of ng, each by a margin of 1e-4 of the coordinates'
+/// magnitudes: thousands of times the rounding of sample_area_light and of
+/// the tests on its samples (emit, below), so that a lane ruled out here would
+/// have had every sample masked off. Over the parallelogram, q = position +
+/// a dim_x + b dim_y with |a|, |b| <= 1/2, (q - p) . v ranges over
+/// (position - p) . v -+ (|dim_x . v| + |dim_y . v|) / 2.
+template <class T>
+inline lane::mask_t<T> area_light_may_reach(const AreaLight& l, const ShadingPointT<T>& sp) {
+  const Vec3T<T> to_centre{T(l.position.x) - sp.p.x, T(l.position.y) - sp.p.y, T(l.position.z) - sp.p.z};
+  const float light_size = std::fabs(l.position.x) + std::fabs(l.position.y) + std::fabs(l.position.z) +
+                           std::fabs(l.dim_x.x) + std::fabs(l.dim_x.y) + std::fabs(l.dim_x.z) + std::fabs(l.dim_y.x) +
+                           std::fabs(l.dim_y.y) + std::fabs(l.dim_y.z);
+  const T margin = T(1e-4f) * (lane::abs(sp.p.x) + lane::abs(sp.p.y) + lane::abs(sp.p.z) + T(light_size));
+  auto spread = [&](const Vec3T<T>& v) {
+    const Vec3T<T> dx{T(l.dim_x.x), T(l.dim_x.y), T(l.dim_x.z)}, dy{T(l.dim_y.x), T(l.dim_y.y), T(l.dim_y.z)};
+    return T(0.5f) * (lane::abs(dot3(dx, v)) + lane::abs(dot3(dy, v)));
+  };
+  const Vec3T<T> n{T(l.direction.x), T(l.direction.y), T(l.direction.z)};
+  const lane::mask_t<T> behind = dot3(to_centre, n) - spread(n) > margin;
+  const lane::mask_t<T> below_ns = dot3(to_centre, sp.ns) + spread(sp.ns) < lane::neg(margin);
+  const lane::mask_t<T> below_ng = dot3(to_centre, sp.ng) + spread(sp.ng) < lane::neg(margin);
+  return sp.on && !(behind || below_ns || below_ng);
+}
+
 /// Calls shadow(ok, origin, wi, tmax, weight) for every light sample of
 /// vertex `vertex` at point `sp`: `weight` is the RGB radiance the sample
 /// brings if the shadow ray (origin, wi, [0, tmax)) is unblocked, already
@@ -118,7 +146,11 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
   };
   uint32_t k = 0;  // light-sample index over all lights, in scene order
   T u1, u2;
-  for (const AreaLight& light : scene.area_lights)
+  for (const AreaLight& light : scene.area_lights) {
+    if (!lane::any(area_light_may_reach(light, sp))) {  // no sample would pass; the numbering goes on
+      k += static_cast<uint32_t>(n);
+      continue;
+    }
     for (int j = 0; j < n; ++j, ++k) {
       ps.get2d(vertex, dims::light_dim(k), u1, u2);
       AreaLightSampleT<T> ls = sample_area_light<T>(light, sp.p.x, sp.p.y, sp.p.z, u1, u2, rs.cs184_light_pdf);
@@ -126,6 +158,7 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
       emit(ls.facing, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance,
            light_sample_factor(cos_s, ls.pdf, mis_count, bsdf_pdf(ls.wi, cos_s)) * inv_n);
     }
+  }
   for (const PointLight& light : scene.point_lights) {
     DeltaLightSampleT<T> ls = sample_point_light<T>(light, sp.p);
     emit(ls.ok, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance, dot3(sp.ns, ls.wi));

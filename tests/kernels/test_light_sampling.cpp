@@ -3,8 +3,10 @@
 // uniform over the parallelogram (chi-square), every pdf equals
 // dist^2 / (area |cos|) computed independently, and the Monte Carlo solid angle
 // and cosine-weighted solid angle of a rectangle match their closed forms;
-// light only on the emitting side. Sky: chi-square against the uniform
-// upper hemisphere. Point lights: exact direction and distance.
+// light only on the emitting side; the test that lets a batch of points skip
+// a light rules out only points that no sample reaches. Sky: chi-square
+// against the uniform upper hemisphere. Point lights: exact direction and
+// distance.
 //
 // Chi-square tests: 2^20 samples (fixed-seed mt19937), 16 x 16 or 16 x 32
 // bins plus an overflow bin of expected 0, significance level 1e-6. Power:
@@ -163,6 +165,65 @@ TEST(AreaLightSampling, EmitsOnlyTowardsItsDirection) {
     EXPECT_FALSE(area_sample(l, {0.2f, 2, 0.1f}, u1, u2).facing) << "behind the light";
     EXPECT_FALSE(area_sample(l, {3, 1, 0}, u1, u2).facing) << "in the light's plane";
   }
+}
+
+/// Whether some sample of the area light reaches shading point sp as
+/// sample_light_sources lets it through: facing it and above both normals
+/// (the same tests, in the same float operations). 4096 random samples and
+/// the four corners.
+bool some_sample_passes(const AreaLight& l, const ShadingPointT<float>& sp, UniformSource& u) {
+  const float last = 0x1.fffffep-1f;  // the largest u below 1
+  const float corners[4][2] = {{0.0f, 0.0f}, {last, 0.0f}, {0.0f, last}, {last, last}};
+  for (int i = 0; i < 4096 + 4; ++i) {
+    const float u1 = i < 4 ? corners[i][0] : u.next(), u2 = i < 4 ? corners[i][1] : u.next();
+    AreaLightSampleT<float> s = sample_area_light<float>(l, sp.p.x, sp.p.y, sp.p.z, u1, u2);
+    if (s.facing && dot3(sp.ns, s.wi) > 0.0f && dot3(sp.ng, s.wi) > 0.0f) return true;
+  }
+  return false;
+}
+
+Vec3T<float> random_unit(UniformSource& u) {
+  Vec3T<float> w = sample_uniform_hemisphere(u.next(), u.next());
+  return u.next() < 0.5f ? w : Vec3T<float>{w.x, w.y, -w.z};
+}
+
+// area_light_may_reach, which lets sample_light_sources skip a light for a
+// batch of points that none of its samples can reach, rules out only such
+// points: 20,000 random points within 2e-3 of the light's plane (on both
+// sides, where its margin decides) and farther, inside and outside the
+// parallelogram's outline, with random normals; every point it rules out is
+// sampled 4100 times and never reached (the test fails with a margin of 1e-8
+// of the coordinates or none instead of 1e-4, and with the spread over the
+// parallelogram taken with the wrong sign). And it does rule out what it is
+// for: the ceiling of a Cornell box above its light, and points whose
+// normals face away.
+TEST(AreaLightSampling, RuledOutPointsGetNoSample) {
+  const AreaLight& l = kSkewed;
+  UniformSource u(26);
+  int ruled_out = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const float s = 3.0f * u.next() - 1.5f, t = 3.0f * u.next() - 1.5f;
+    const float h = i % 2 ? 4e-3f * u.next() - 2e-3f : 4.0f * u.next() - 2.0f;  // signed distance along direction
+    const float3 q = l.position + l.dim_x * (s - 0.5f) + l.dim_y * (t - 0.5f) + l.direction * h;
+    Vec3T<float> ng = random_unit(u), ns = random_unit(u);
+    if (dot3(ns, ng) < 0.0f) ns = {-ns.x, -ns.y, -ns.z};  // as surfaces keep them
+    const ShadingPointT<float> sp{{q.x, q.y, q.z}, ng, ns, 0.0f, true};
+    if (area_light_may_reach(l, sp)) continue;
+    ++ruled_out;
+    ASSERT_FALSE(some_sample_passes(l, sp, u)) << "point " << q.x << " " << q.y << " " << q.z << " ruled out";
+  }
+  EXPECT_GT(ruled_out, 5000);  // half the points lie behind the plane, and half of the others face away
+
+  const AreaLight ceiling_light = make_area_light({0, 1.49f, 0}, {0.8f, 0, 0}, {0, 0, 0.6f}, {0, -1, 0}, {1, 1, 1});
+  const Vec3T<float> down{0, -1, 0}, up{0, 1, 0};
+  EXPECT_FALSE(area_light_may_reach(ceiling_light, ShadingPointT<float>{{0.3f, 1.5f, 0.2f}, down, down, 0.0f, true}))
+      << "the ceiling, 0.01 above the light";
+  EXPECT_FALSE(area_light_may_reach(ceiling_light, ShadingPointT<float>{{0.3f, 0.5f, 0.2f}, down, down, 0.0f, true}))
+      << "facing away, below the light";
+  EXPECT_TRUE(area_light_may_reach(ceiling_light, ShadingPointT<float>{{0.3f, 0.0f, 0.2f}, up, up, 0.0f, true}))
+      << "the floor";
+  EXPECT_FALSE(area_light_may_reach(ceiling_light, ShadingPointT<float>{{0.3f, 0.0f, 0.2f}, up, up, 0.0f, false}))
+      << "a lane that does not shade";
 }
 
 // Stated: uniform over the +Y hemisphere (pdf 1 / (2 pi), which direct_light.h
