@@ -11,6 +11,7 @@
 #include "generate_camera_rays.h"
 #include "hit_point_order.h"
 #include "intersect_closest.h"
+#include "kernels/transport/path_rules.h"
 #include "russian_roulette.h"
 #include "shade_surfaces.h"
 #include "stage_stats.h"
@@ -59,12 +60,16 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
       shade_normals(ctx, rays, b.hits, b.paths);
       break;
     }
+    // Without roulette at the next vertex the continuations are the next
+    // depth's rays as they are: shading writes them there directly.
+    const bool roulette = PathRules::roulette_applies(depth + 1);
+    RayQueue& continuations = roulette ? b.continuations : b.rays[1 - cur];
     b.shadows.clear();
     b.hemisphere.clear();
-    b.continuations.clear();
+    continuations.clear();
     {
       StageTimer t(stats, Stage::kShade);
-      shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, b.continuations}, b.by_material);
+      shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, continuations}, b.by_material);
     }
     capture_queue(options, QueueKind::kShadow, depth, b.shadows);
     capture_queue(options, QueueKind::kHemisphere, depth, b.hemisphere);
@@ -88,7 +93,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     if (depth == 0) stats.first_hit_shadow_rays += b.shadows.size + b.hemisphere.size;
     {
       StageTimer t(stats, Stage::kRoulette);
-      russian_roulette(ctx, depth + 1, b.continuations, b.paths, b.rays[1 - cur]);
+      if (roulette) russian_roulette(ctx, depth + 1, b.continuations, b.paths, b.rays[1 - cur]);
     }
     cur = 1 - cur;
     stats.bounce_rays += b.rays[cur].size;

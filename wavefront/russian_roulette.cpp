@@ -1,6 +1,8 @@
 // russian_roulette: SIMD decisions, compressed stores for the compaction.
 #include "russian_roulette.h"
 
+#include <cassert>
+
 #include "kernels/transport/path_rules.h"
 #include "kernels/transport/sample_dimensions.h"
 #include "kernels/transport/shading.h"
@@ -11,16 +13,13 @@ namespace pt::wf {
 
 void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, const PathState& paths,
                       RayQueue& next) {
+  assert(PathRules::roulette_applies(vertex));  // else shading writes the next rays itself
   const size_t n = candidates.size;
   next.reserve(n);
   next.clear();
   const RenderSettings& rs = ctx.settings;
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     vboolK valid = xsimd::batch_cast<float>(lane_index()) < vfloatK(static_cast<float>(n - i0));
-    if (!PathRules::roulette_applies(vertex)) {
-      append_lanes(next, lane_mask(valid), load_lanes(candidates, i0));
-      continue;
-    }
     RayLanes ray = load_lanes(candidates, i0);
     vintK safe_path = xsimd::select(as_int_mask(valid), xsimd::bitwise_cast<vintK>(ray.path), vintK(0));
     const SamplerK ps = sampler_of_paths(rs, paths, safe_path);

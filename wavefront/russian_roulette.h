@@ -11,7 +11,9 @@
 
 namespace pt::wf {
 
-/// `vertex` = the path vertex the candidates leave from (>= 1).
+/// `vertex` = the path vertex the candidates leave from, one where roulette
+/// applies (PathRules::roulette_applies; before it, shading writes the next
+/// depth's rays itself).
 void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, const PathState& paths,
                       RayQueue& next);
 
