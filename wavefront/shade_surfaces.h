@@ -3,7 +3,8 @@
 // has more than one). Adds emission where it counts, samples direct light
 // (pushing shadow rays, or hemisphere rays with -H), and samples the BSDF for
 // the next bounce (pushing continuation candidates that Russian roulette
-// then filters).
+// then filters, or, before the first vertex where it applies, the next
+// depth's rays themselves).
 #pragma once
 
 #include <cstdint>
@@ -17,7 +18,7 @@ namespace pt::wf {
 struct ShadeOutputs {
   ShadowQueue& shadows;     ///< occlusion rays of light sampling
   ShadowQueue& hemisphere;  ///< closest-hit rays of hemisphere sampling (-H)
-  RayQueue& continuations;  ///< next-bounce candidates, before roulette
+  RayQueue& continuations;  ///< next-bounce candidates, before roulette (where it applies)
 };
 
 /// `depth` = bounces the rays of `rays` have made (0: camera rays); the

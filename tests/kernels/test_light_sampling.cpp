@@ -183,36 +183,48 @@ bool some_sample_passes(const AreaLight& l, const ShadingPointT<float>& sp, Unif
 }
 
 Vec3T<float> random_unit(UniformSource& u) {
-  Vec3T<float> w = sample_uniform_hemisphere(u.next(), u.next());
-  return u.next() < 0.5f ? w : Vec3T<float>{w.x, w.y, -w.z};
+  const float u1 = u.next();  // one statement each: the order of the draws is fixed
+  const float u2 = u.next();
+  const bool down = u.next() < 0.5f;
+  Vec3T<float> w = sample_uniform_hemisphere(u1, u2);
+  return down ? Vec3T<float>{w.x, w.y, -w.z} : w;
 }
 
 // area_light_may_reach, which lets sample_light_sources skip a light for a
 // batch of points that none of its samples can reach, rules out only such
-// points: 20,000 random points within 2e-3 of the light's plane (on both
-// sides, where its margin decides) and farther, inside and outside the
-// parallelogram's outline, with random normals; every point it rules out is
-// sampled 4100 times and never reached (the test fails with a margin of 1e-8
-// of the coordinates or none instead of 1e-4, and with the spread over the
-// parallelogram taken with the wrong sign). And it does rule out what it is
-// for: the ceiling of a Cornell box above its light, and points whose
-// normals face away.
+// points: for kSkewed and for a light whose direction leans off its plane's
+// normal (so that its own direction varies over the parallelogram), 30,000
+// random points each, a third within 2e-6 of the light's plane (the
+// rounding's scale), a third within 2e-3 (its margin's) and a third farther,
+// on both sides and out to half the light's size beyond its outline, with
+// random normals; every point it rules out is sampled 4100 times and never
+// reached. It fails with the margin at 1e-8 of the coordinates or none
+// instead of 1e-4, and with either spread over the parallelogram (of the
+// light's direction or of a normal) taken with the wrong sign. And it does
+// rule out what it is for: the ceiling of a Cornell box above its light, and
+// points whose normals face away.
 TEST(AreaLightSampling, RuledOutPointsGetNoSample) {
-  const AreaLight& l = kSkewed;
-  UniformSource u(26);
-  int ruled_out = 0;
-  for (int i = 0; i < 20000; ++i) {
-    const float s = 3.0f * u.next() - 1.5f, t = 3.0f * u.next() - 1.5f;
-    const float h = i % 2 ? 4e-3f * u.next() - 2e-3f : 4.0f * u.next() - 2.0f;  // signed distance along direction
-    const float3 q = l.position + l.dim_x * (s - 0.5f) + l.dim_y * (t - 0.5f) + l.direction * h;
-    Vec3T<float> ng = random_unit(u), ns = random_unit(u);
-    if (dot3(ns, ng) < 0.0f) ns = {-ns.x, -ns.y, -ns.z};  // as surfaces keep them
-    const ShadingPointT<float> sp{{q.x, q.y, q.z}, ng, ns, 0.0f, true};
-    if (area_light_may_reach(l, sp)) continue;
-    ++ruled_out;
-    ASSERT_FALSE(some_sample_passes(l, sp, u)) << "point " << q.x << " " << q.y << " " << q.z << " ruled out";
+  const float3 ex{1.2f, 0.3f, 0.0f}, ey{0.5f, 0.1f, 0.8f};
+  const AreaLight leaning = make_area_light({0.4f, 2.0f, -0.3f}, ex, ey, cross(ex, ey) + ex * 0.8f, {3, 2, 1});
+  for (const AreaLight& l : {kSkewed, leaning}) {
+    UniformSource u(26);
+    int ruled_out = 0;
+    for (int i = 0; i < 30000; ++i) {
+      const float s = 2.0f * u.next() - 0.5f;
+      const float t = 2.0f * u.next() - 0.5f;
+      const float band = i % 3 == 0 ? 2e-6f : i % 3 == 1 ? 2e-3f : 2.0f;
+      const float h = band * (2.0f * u.next() - 1.0f);  // along the light's direction, either side
+      const float3 q = l.position + l.dim_x * (s - 0.5f) + l.dim_y * (t - 0.5f) + l.direction * h;
+      const Vec3T<float> ng = random_unit(u);
+      Vec3T<float> ns = random_unit(u);
+      if (dot3(ns, ng) < 0.0f) ns = {-ns.x, -ns.y, -ns.z};  // as surfaces keep them
+      const ShadingPointT<float> sp{{q.x, q.y, q.z}, ng, ns, 0.0f, true};
+      if (area_light_may_reach(l, sp)) continue;
+      ++ruled_out;
+      ASSERT_FALSE(some_sample_passes(l, sp, u)) << "point " << q.x << " " << q.y << " " << q.z << " ruled out";
+    }
+    EXPECT_GT(ruled_out, 7500);  // half the points lie behind the light, and half of the others face away
   }
-  EXPECT_GT(ruled_out, 5000);  // half the points lie behind the plane, and half of the others face away
 
   const AreaLight ceiling_light = make_area_light({0, 1.49f, 0}, {0.8f, 0, 0}, {0, 0, 0.6f}, {0, -1, 0}, {1, 1, 1});
   const Vec3T<float> down{0, -1, 0}, up{0, 1, 0};
