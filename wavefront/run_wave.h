@@ -67,7 +67,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     b.shadows.clear();
     b.hemisphere.clear();
     continuations.clear();
-    continuations.reserve(rays.size + kMaxLanes);  // room for every kernel's appends, as a compressed append needs
+    continuations.reserve(rays.size);  // as the roulette stage reserves its output: every kernel's appends fit
     {
       StageTimer t(stats, Stage::kShade);
       shade_surfaces(ctx, depth, rays, b.hits, b.paths, {b.shadows, b.hemisphere, continuations}, b.by_material);
