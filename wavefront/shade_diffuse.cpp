@@ -105,7 +105,7 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
   const size_t n = rays.size;
   out.shadows.reserve(n * ctx.shadow_rays_per_vertex);
   out.hemisphere.reserve(rs.direct_by_hitting() ? n * ctx.shadow_rays_per_vertex : 0);
-  out.continuations.reserve(n);
+  // out.continuations: reserved by run_wave for the whole shaded queue
   const MaterialArrays& mats = ctx.materials;
 
   if (n > 0) prefetch_surfaces(ctx, hits, 0, false);
