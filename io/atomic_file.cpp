@@ -94,7 +94,12 @@ bool StagedFile::publish(bool replace) {
     if (errno == EEXIST) return false;
     fail(path_, "cannot move output into place", errno);
   }
-  return true;  // the destructor removes the temporary name
+  // The temporary name goes now, not in the destructor: once published, the
+  // directory holds the file under its own name only (a caller may report the
+  // file done before this object is destroyed).
+  ::unlink(temporary_.c_str());
+  staged_ = false;
+  return true;
 }
 
 }  // namespace pt

@@ -28,7 +28,8 @@ class StagedFile {
 
   /// Puts the file at its path: renamed over whatever is there (`replace`), or
   /// linked there only if no file of that name exists (false then, and nothing
-  /// changes). Throws InputError on other failures.
+  /// changes). Once it returns true, no temporary name is left. Throws
+  /// InputError on other failures.
   bool publish(bool replace);
   const std::filesystem::path& path() const { return path_; }
 

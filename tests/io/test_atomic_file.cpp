@@ -1,5 +1,6 @@
 // Output files appear whole or not at all (io/atomic_file): exact contents,
-// no temporary file left behind on success or failure, a reader never sees a
+// no temporary file left behind on success or failure (nor once published,
+// while the staged file lives), a reader never sees a
 // half-written replacement, a staged file published without replacing leaves
 // an existing file alone, and check_writable() refuses what the write would
 // refuse while leaving the directory as it was.
@@ -42,6 +43,19 @@ TEST(AtomicFile, AStagedFilePublishedWithoutReplacingLeavesAnExistingFileAlone) 
   EXPECT_TRUE(replacing.publish(true));
   EXPECT_EQ(test::file_bytes(dir / "taken.txt"), "replaced");
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"new.txt", "taken.txt"})) << "no temporary file is left";
+}
+
+// A caller may report a published file done before the StagedFile goes (the
+// live view's render job does): by then no temporary name may be left.
+TEST(AtomicFile, APublishedFileLeavesNoTemporaryNameWhileItsStagedFileLives) {
+  test::ScratchDir dir;
+  StagedFile linked(dir / "linked.txt", "a");
+  ASSERT_TRUE(linked.publish(false));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"linked.txt"});
+  StagedFile renamed(dir / "renamed.txt", "b");
+  ASSERT_TRUE(renamed.publish(true));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"linked.txt", "renamed.txt"}));
+  EXPECT_EQ(test::file_bytes(dir / "linked.txt"), "a");
 }
 
 TEST(AtomicFile, AReaderSeesTheOldOrTheNewFileNeverAMixture) {
