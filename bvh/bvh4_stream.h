@@ -9,7 +9,9 @@
 // The rays of a list that has thinned
 // below kStreamMinRays go on alone from that node: their walks are collected
 // and run kWalksInFlight at a time, interleaved (bvh4_interleaved.h), each
-// under its ray's nearest hit at the time it starts.
+// under its ray's nearest hit at the time it starts. For any hit, a part of
+// at most 64 rays writes no lists: its rays keep their lanes and a node on
+// the stack carries a mask of the rays that enter it (occluded_masked_part).
 // Every ray gets the hit it gets alone, bit for bit: the triangle test does
 // the same operations per lane as the block test, and a leaf's triangles are
 // taken in the block test's order, each block's four under the nearest t from
@@ -497,6 +499,143 @@ inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* block
   run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
 }
 
+/// Rays a part holds at most to go as one masked set (occluded_masked_part).
+inline constexpr uint32_t kMaskedRays = 64;
+
+/// Occlusion of the rays of a part of at most kMaskedRays rays, as one set:
+/// each ray's slab constants stay in its lane (no lists are written), and a
+/// node or leaf on the stack carries a 64-bit mask of the rays that enter it.
+/// A node tests each chunk of K rays that has a ray in the mask against its
+/// four children, as split_node does; a mask that thins below
+/// kStreamMinRays goes on as walks, a leaf as leaf_any takes its chunks.
+/// Small queues (a scene's few later shadow rays) pay for no compaction.
+template <bool kTmin, class C>
+inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax,
+                                 QueueScratch& s, C& counters) {
+  assert(rays.size <= kMaskedRays);
+  static_assert(kMaskedRays % kLanes == 0 && kMaskedRays <= 64);
+  constexpr uint32_t kRoom = kMaskedRays + kMaxLanes;
+  alignas(64) float rdir[3][kRoom], org_rdir[3][kRoom], tmin_of[kTmin ? kRoom : 1];
+  const vfloatK min_dir(NodeRay::kMinDir);
+  uint64_t set = 0;  // the rays traced: traceable, not blocked before
+  for (size_t i = 0; i < rays.size; i += kLanes) {
+    const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
+    auto load = [&](const float* a) {  // lanes past the end read the last ray
+      if (valid == lanes_below(kLanes)) return vfloatK::load_unaligned(a + i);
+      alignas(64) float tail[kLanes];
+      for (size_t l = 0; l < kLanes; ++l) tail[l] = a[std::min(i + l, rays.size - 1)];
+      return vfloatK::load_aligned(tail);
+    };
+    vfloatK org[3], dir[3];
+    for (int a = 0; a < 3; ++a) org[a] = load(rays.org[a]), dir[a] = load(rays.dir[a]);
+    const vfloatK tmin = rays.tmin ? load(rays.tmin) : vfloatK(0.0f), tmax = load(rays.tmax);
+    vboolK traceable = (tmin < tmax) & (load(live_tmax) != vfloatK(-INFINITY));
+    for (int a = 0; a < 3; ++a) traceable = traceable & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
+    set |= uint64_t(lane_mask(traceable) & valid) << i;
+    for (int a = 0; a < 3; ++a) {
+      const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
+      const vfloatK inv = vfloatK(1.0f) / safe;
+      inv.store_aligned(rdir[a] + i);
+      (org[a] * inv).store_aligned(org_rdir[a] + i);
+    }
+    if constexpr (kTmin) tmin.store_aligned(tmin_of + i);
+  }
+  auto live = [&] {  // the traced rays not blocked yet
+    uint64_t m = 0;
+    for (uint64_t b = set; b; b &= b - 1)
+      if (live_tmax[std::countr_zero(b)] != -INFINITY) m |= b & -b;
+    return m;
+  };
+  struct Entry {
+    uint32_t ref;
+    uint64_t mask;
+  };
+  Entry stack[kBvh4StackSize];
+  Entry* sp = stack;
+  if (set) *sp++ = {bvh.root, set};
+  uint64_t alive = set;
+  while (sp != stack) {
+    const Entry e = *--sp;
+    const uint64_t mask = e.mask & alive;
+    if (mask == 0) continue;
+    if (static_cast<uint32_t>(std::popcount(mask)) < kStreamMinRays) {  // 4 and 2 measured no faster
+      for (uint64_t b = mask; b; b &= b - 1) s.alone.push_back({static_cast<uint32_t>(std::countr_zero(b)), e.ref});
+      if (s.alone.size() >= kWalkBatch) {
+        run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
+        alive = live();
+      }
+      continue;
+    }
+    if (bvh4_ref::is_leaf(e.ref)) {
+      const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
+      const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
+      for (uint32_t i = 0; i < rays.size; i += kLanes) {
+        const uint32_t chunk = static_cast<uint32_t>(mask >> i) & lanes_below(kLanes);
+        if (chunk == 0) continue;
+        if (static_cast<uint32_t>(std::popcount(chunk)) <= kLeafRaysAlone) {  // each ray alone
+          for (uint32_t m = chunk; m; m &= m - 1) {
+            const uint32_t r_id = i + std::countr_zero(m);
+            const MtBlockRay br(rays.ray(r_id));
+            if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, vfloat4(live_tmax[r_id]),
+                                                             counters)) {
+              live_tmax[r_id] = -INFINITY;
+              blocked[r_id] = 1;
+              alive &= ~(uint64_t(1) << r_id);
+            }
+          }
+          continue;
+        }
+        count_leaf(counters, blocks, n_blocks, std::popcount(chunk));
+        const vintK id = vintK(static_cast<int32_t>(i)) + lane_index();
+        const vintK safe_id = xsimd::select(as_int_mask(lanes_of_mask(chunk)), id, vintK(static_cast<int32_t>(i)));
+        const TriangleLanes r =
+            gather_triangle_lanes(rays, xsimd::min(safe_id, vintK(static_cast<int32_t>(rays.size - 1))),
+                                  kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f));
+        const vfloatK tmax = vfloatK::load_unaligned(live_tmax + i);
+        uint32_t hit = 0;
+        for (uint32_t b = 0; b < n_blocks && hit != chunk; ++b)
+          for (int l = 0; l < 4 && hit != chunk; ++l) {
+            if (blocks[b].prim[l] == kInvalidId) continue;
+            LaneHits<vfloatK> h;
+            if (triangle_lanes(blocks[b], l, r, lanes_of_mask(chunk & ~hit), tmax, h)) hit |= lane_mask(h.hit) & chunk;
+          }
+        for (; hit; hit &= hit - 1) {
+          const uint32_t r_id = i + std::countr_zero(hit);
+          live_tmax[r_id] = -INFINITY;
+          blocked[r_id] = 1;
+          alive &= ~(uint64_t(1) << r_id);
+        }
+      }
+      continue;
+    }
+    const Bvh4Node& node = bvh.node(e.ref);
+    counters.nodes_tested(std::popcount(mask));
+    uint64_t child_mask[4] = {0, 0, 0, 0};
+    for (uint32_t i = 0; i < rays.size; i += kLanes) {
+      const uint32_t chunk = static_cast<uint32_t>(mask >> i) & lanes_below(kLanes);
+      if (chunk == 0) continue;
+      NodeLanes r;
+      for (int a = 0; a < 3; ++a) {
+        r.rdir[a] = vfloatK::load_aligned(rdir[a] + i);
+        r.org_rdir[a] = vfloatK::load_aligned(org_rdir[a] + i);
+      }
+      r.tmin = kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f);
+      r.tmax = vfloatK::load_unaligned(live_tmax + i);
+      for (int k = 0; k < 4; ++k) {
+        if (node.child[k] == bvh4_ref::kEmptyRef) continue;
+        vfloatK tnear;
+        child_mask[k] |= uint64_t(lane_mask(child_test(node, k, r, tnear)) & chunk) << i;
+      }
+    }
+    for (int k = 0; k < 4; ++k)  // node order, the last child on top (as split_node<false>)
+      if (child_mask[k]) {
+        prefetch_ref(bvh, node.child[k]);
+        *sp++ = {node.child[k], child_mask[k]};
+      }
+  }
+  run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
+}
+
 /// Rays [begin, end) of a queue, with indices from 0.
 inline RayArrays part_of(const RayArrays& rays, size_t begin, size_t end) {
   RayArrays p = rays;
@@ -541,7 +680,10 @@ inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t
   ListArena arena(s);
   for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
     const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
-    if (has_tmin(part)) occluded_part<true>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
+    if (part.size <= kMaskedRays) {
+      if (has_tmin(part)) occluded_masked_part<true>(bvh, part, blocked + b, live_tmax + b, s, counters);
+      else occluded_masked_part<false>(bvh, part, blocked + b, live_tmax + b, s, counters);
+    } else if (has_tmin(part)) occluded_part<true>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
     else occluded_part<false>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
   }
 }

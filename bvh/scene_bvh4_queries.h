@@ -208,6 +208,7 @@ template <class C>
 /// Whether the queue comes in runs of K rays that packets trace faster than
 /// a stream does (queue_coherence.h).
 inline bool in_coherent_runs(const SceneBvh4& s, const RayArrays& rays) {
+  if (rays.size < 4 * kLanes) return false;  // as in_coherent_runs, without the scene's extent
   return in_coherent_runs(rays, kCoherentSpread * scene_extent(s.bvh()), kLanes);
 }
 

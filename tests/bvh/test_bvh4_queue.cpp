@@ -7,7 +7,8 @@
 // part size; coherent, incoherent and shuffled rays; rays with tmin > 0;
 // untraceable rays; spheres; the watertight form; a tree deep enough that
 // lists thin out and go on ray by ray; the interleaved walks against the
-// single-ray walks from the same node; nothing written past a queue.
+// single-ray walks from the same node; any-hit parts of at most 64 rays,
+// traced as one masked set; nothing written past a queue.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -366,6 +367,40 @@ TEST(Bvh4Queue, EveryQueueLengthAroundTheLaneWidthAndThePartSize) {
   for (size_t n : lengths)
     expect_queue_matches_single_rays(bvh, std::span<const Ray>(rays).first(n), scratch,
                                      "queue of " + std::to_string(n));
+}
+
+TEST(Bvh4Queue, QueuesOfAtMost64RaysGoAsOneMaskedSetAndMatchSingleRays) {
+  // Parts of at most 64 rays are traced for any hit as one set with a mask
+  // per node (occluded_masked_part): every length from 1 to 65, shadow rays
+  // from surfaces (some blocked by spheres first), a third with tmin > 0; a
+  // short last part after a full one; rays from inside a closed fine mesh,
+  // whose masks thin out into walks.
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  std::vector<Ray> camera = camera_rays(s, 128, 96);
+  std::vector<Hit> first(camera.size());
+  for (size_t i = 0; i < camera.size(); ++i) bvh.intersect(camera[i], first[i]);
+  std::vector<Ray> shadow = shadow_rays(s, camera, first, 4);
+  start_past_origin(shadow, 3, 23);
+  ASSERT_GE(shadow.size(), 4096u + 65u);
+  size_t blocked = 0, traced = 0;
+  for (size_t n = 1; n <= 65; ++n) {
+    std::span<const Ray> q = std::span<const Ray>(shadow).subspan(n * 37, n);
+    expect_queue_matches_single_rays(bvh, q, scratch, "shadow queue of " + std::to_string(n));
+    for (const Ray& r : q) blocked += bvh.occluded(r), ++traced;
+  }
+  EXPECT_GT(blocked, traced / 20);  // both answers are exercised
+  EXPECT_LT(blocked, traced - traced / 20);
+  expect_queue_matches_single_rays(bvh, std::span<const Ray>(shadow).first(4096 + 30), scratch,
+                                   "a full part, then 30 rays");
+  Scene sphere = tessellated_sphere(6, {0, 0, 0}, 1.0f);
+  SceneBvh4 fine(sphere);
+  std::vector<Ray> inside = uniform_random_rays(sphere, 64, 29);
+  for (Ray& r : inside) r.org = r.org * 0.5f;
+  for (size_t n : {8u, 17u, 64u})
+    expect_queue_matches_single_rays(fine, std::span<const Ray>(inside).first(n), scratch,
+                                     "inside a fine sphere, " + std::to_string(n) + " rays");
 }
 
 TEST(Bvh4Queue, LongQueuesWithTminInEveryPartMatchSingleRays) {
