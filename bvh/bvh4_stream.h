@@ -585,7 +585,6 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t
           }
           continue;
         }
-        count_leaf(counters, blocks, n_blocks, std::popcount(chunk));
         const vintK id = vintK(static_cast<int32_t>(i)) + lane_index();
         const vintK safe_id = xsimd::select(as_int_mask(lanes_of_mask(chunk)), id, vintK(static_cast<int32_t>(i)));
         const TriangleLanes r =
@@ -596,6 +595,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t
         for (uint32_t b = 0; b < n_blocks && hit != chunk; ++b)
           for (int l = 0; l < 4 && hit != chunk; ++l) {
             if (blocks[b].prim[l] == kInvalidId) continue;
+            if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(chunk & ~hit));  // as leaf_any
             LaneHits<vfloatK> h;
             if (triangle_lanes(blocks[b], l, r, lanes_of_mask(chunk & ~hit), tmax, h)) hit |= lane_mask(h.hit) & chunk;
           }

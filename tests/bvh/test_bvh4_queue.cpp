@@ -369,38 +369,92 @@ TEST(Bvh4Queue, EveryQueueLengthAroundTheLaneWidthAndThePartSize) {
                                      "queue of " + std::to_string(n));
 }
 
+/// Bundles of `n` rays (n from 1 to 64, then again) towards a fine sphere of
+/// radius 1 at the origin: each bundle from one point at distance 2.5 (within
+/// 0.01) towards a spot of radius 0.03 on a disc of radius 1.3 across the
+/// sphere, so that some bundles hit it, some pass by, some graze its edge, and
+/// the rays of a bundle reach the same leaves. Every third ray that hits
+/// starts just past its entry point and ends 0.05 beyond it (blocked with
+/// tmin = 0, unblocked with its tmin).
+std::vector<Ray> bundles_at_a_sphere(const SceneBvh4& bvh, size_t total, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  auto unit = [&] {
+    for (;;) {
+      float3 v{u(rng), u(rng), u(rng)};
+      if (float l = length(v); l > 0.1f && l <= 1.0f) return v * (1.0f / l);
+    }
+  };
+  auto across = [&](const float3& axis) {  // a unit vector at right angles to axis
+    for (;;) {
+      float3 v = unit();
+      v = v - axis * dot(v, axis);
+      if (float l = length(v); l > 0.1f) return v * (1.0f / l);
+    }
+  };
+  std::vector<Ray> rays;
+  for (size_t n = 1; rays.size() < total; n = n % 64 + 1) {
+    const float3 axis = unit(), from = axis * 2.5f;
+    const float3 spot = across(axis) * (1.3f * std::abs(u(rng)));
+    for (size_t i = 0; i < n && rays.size() < total; ++i) {
+      const float3 to = spot + unit() * 0.03f, org = from + unit() * 0.01f;
+      Ray r{org, 0.0f, to - org, 2.0f};
+      Hit h;
+      if (rays.size() % 3 == 0 && bvh.intersect(r, h)) r.tmin = h.t * 1.001f, r.tmax = h.t + 0.05f;
+      rays.push_back(r);
+    }
+  }
+  return rays;
+}
+
 TEST(Bvh4Queue, QueuesOfAtMost64RaysGoAsOneMaskedSetAndMatchSingleRays) {
   // Parts of at most 64 rays are traced for any hit as one set with a mask
-  // per node (occluded_masked_part): every length from 1 to 65, shadow rays
-  // from surfaces (some blocked by spheres first), a third with tmin > 0; a
-  // short last part after a full one; rays from inside a closed fine mesh,
-  // whose masks thin out into walks.
+  // per node (occluded_masked_part): every length from 1 to 65 in a deep
+  // tree, with mixed answers and tmin past an occluder; a short last part
+  // after a full one; counted queries; a scene with spheres, which block
+  // rays before the tree.
+  Scene sphere = tessellated_sphere(5, {0, 0, 0}, 1.0f);
+  SceneBvh4 fine(sphere);
+  QueueScratch scratch;
+  std::vector<Ray> rays = bundles_at_a_sphere(fine, 4096 + 64, 31);
+  size_t blocked = 0, by_tmin = 0;
+  for (const Ray& r : rays) {
+    blocked += fine.occluded(r);
+    Ray from_zero = r;
+    from_zero.tmin = 0.0f;
+    by_tmin += r.tmin > 0.0f && fine.occluded(from_zero) && !fine.occluded(r);
+  }
+  EXPECT_GT(blocked, rays.size() / 5);  // both answers are exercised
+  EXPECT_LT(blocked, rays.size() - rays.size() / 5);
+  EXPECT_GT(by_tmin, rays.size() / 20);  // tmin decides for these
+  // First, so that the scratch past each shorter queue holds live values.
+  expect_queue_matches_single_rays(fine, std::span<const Ray>(rays).first(4096 + 30), scratch,
+                                   "a full part, then 30 rays");
+  for (size_t n = 1, start = 0; n <= 65; ++n) {
+    // Each queue ends with a blocked ray, so that a lane past its end that
+    // was traced as a copy of the last ray would write past the queue.
+    start = (start + 37) % 4000;
+    while (!fine.occluded(rays[start + n - 1])) ++start;
+    expect_queue_matches_single_rays(fine, std::span<const Ray>(rays).subspan(start, n), scratch,
+                                     "queue of " + std::to_string(n));
+  }
+  for (size_t n : {9u, 40u, 64u}) {  // counted: the same answers
+    Queue q(std::span<const Ray>(rays).subspan(2000, n));
+    TraversalCounters c;
+    fine.occluded(q.rays(), q.blocked.data(), scratch, c);
+    for (size_t i = 0; i < n; ++i)
+      EXPECT_EQ(q.blocked[i], uint8_t(fine.occluded(rays[2000 + i]))) << n << " counted, ray " << i;
+    EXPECT_GT(c.nodes, 0u);
+  }
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
-  QueueScratch scratch;
-  std::vector<Ray> camera = camera_rays(s, 128, 96);
+  std::vector<Ray> camera = camera_rays(s, 64, 48);
   std::vector<Hit> first(camera.size());
   for (size_t i = 0; i < camera.size(); ++i) bvh.intersect(camera[i], first[i]);
   std::vector<Ray> shadow = shadow_rays(s, camera, first, 4);
-  start_past_origin(shadow, 3, 23);
-  ASSERT_GE(shadow.size(), 4096u + 65u);
-  size_t blocked = 0, traced = 0;
-  for (size_t n = 1; n <= 65; ++n) {
-    std::span<const Ray> q = std::span<const Ray>(shadow).subspan(n * 37, n);
-    expect_queue_matches_single_rays(bvh, q, scratch, "shadow queue of " + std::to_string(n));
-    for (const Ray& r : q) blocked += bvh.occluded(r), ++traced;
-  }
-  EXPECT_GT(blocked, traced / 20);  // both answers are exercised
-  EXPECT_LT(blocked, traced - traced / 20);
-  expect_queue_matches_single_rays(bvh, std::span<const Ray>(shadow).first(4096 + 30), scratch,
-                                   "a full part, then 30 rays");
-  Scene sphere = tessellated_sphere(6, {0, 0, 0}, 1.0f);
-  SceneBvh4 fine(sphere);
-  std::vector<Ray> inside = uniform_random_rays(sphere, 64, 29);
-  for (Ray& r : inside) r.org = r.org * 0.5f;
-  for (size_t n : {8u, 17u, 64u})
-    expect_queue_matches_single_rays(fine, std::span<const Ray>(inside).first(n), scratch,
-                                     "inside a fine sphere, " + std::to_string(n) + " rays");
+  for (size_t n : {1u, 17u, 33u, 64u})
+    expect_queue_matches_single_rays(bvh, std::span<const Ray>(shadow).first(n), scratch,
+                                     "Cornell box shadow queue of " + std::to_string(n));
 }
 
 TEST(Bvh4Queue, LongQueuesWithTminInEveryPartMatchSingleRays) {
