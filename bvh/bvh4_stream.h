@@ -98,6 +98,39 @@ inline bool has_tmin(const RayArrays& rays) {
   return false;
 }
 
+/// Lane l of K values of a part's array from index i: a[i + l], or the last
+/// ray's value for lanes past the part's end.
+PT_ALWAYS_INLINE vfloatK load_part_lanes(const float* a, size_t i, size_t size) {
+  if (i + kLanes <= size) return vfloatK::load_unaligned(a + i);
+  alignas(64) float tail[kLanes];
+  for (size_t l = 0; l < kLanes; ++l) tail[l] = a[std::min(i + l, size - 1)];
+  return vfloatK::load_aligned(tail);
+}
+
+/// K rays of a part from ray i: their slab constants as NodeRay computes
+/// them, their tmin, and which of them are traceable (lanes past the end
+/// repeat the last ray; the caller masks them off).
+struct SlabLanes {
+  vfloatK rdir[3], org_rdir[3], tmin;
+  vboolK traceable;
+};
+PT_ALWAYS_INLINE SlabLanes slab_lanes(const RayArrays& rays, size_t i) {
+  auto load = [&](const float* a) { return load_part_lanes(a, i, rays.size); };
+  SlabLanes r;
+  vfloatK org[3], dir[3];
+  for (int a = 0; a < 3; ++a) org[a] = load(rays.org[a]), dir[a] = load(rays.dir[a]);
+  r.tmin = rays.tmin ? load(rays.tmin) : vfloatK(0.0f);
+  r.traceable = r.tmin < load(rays.tmax);  // false for NaN
+  for (int a = 0; a < 3; ++a) r.traceable = r.traceable & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
+  const vfloatK min_dir(NodeRay::kMinDir);
+  for (int a = 0; a < 3; ++a) {
+    const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
+    r.rdir[a] = vfloatK(1.0f) / safe;
+    r.org_rdir[a] = org[a] * r.rdir[a];
+  }
+  return r;
+}
+
 /// Lists the traceable rays of the part, in queue order, with their slab
 /// constants (computed as NodeRay computes them) and, with kTmin, their tmin;
 /// returns the root's entry.
@@ -108,31 +141,18 @@ inline ListEntry root_list(const Bvh4& bvh, const RayArrays& rays, ListArena& ar
   arena.reserve(0, size_t(kFields) * room);
   float* out[kListFields];
   for (uint32_t f = 0; f < kFields; ++f) out[f] = arena.field(0, room, ListField(f));
-  const vfloatK min_dir(NodeRay::kMinDir);
   uint32_t count = 0;
   for (size_t i = 0; i < rays.size; i += kLanes) {
     const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
-    auto load = [&](const float* a) {  // lanes past the end read the last ray
-      if (valid == lanes_below(kLanes)) return vfloatK::load_unaligned(a + i);
-      alignas(64) float tail[kLanes];
-      for (size_t l = 0; l < kLanes; ++l) tail[l] = a[std::min(i + l, rays.size - 1)];
-      return vfloatK::load_aligned(tail);
-    };
-    vfloatK org[3], dir[3];
-    for (int a = 0; a < 3; ++a) org[a] = load(rays.org[a]), dir[a] = load(rays.dir[a]);
-    const vfloatK tmin = rays.tmin ? load(rays.tmin) : vfloatK(0.0f), tmax = load(rays.tmax);
-    vboolK traceable = tmin < tmax;  // false for NaN
-    for (int a = 0; a < 3; ++a) traceable = traceable & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
-    const uint32_t m = lane_mask(traceable) & valid;
+    const SlabLanes r = slab_lanes(rays, i);
+    const uint32_t m = lane_mask(r.traceable) & valid;
     if (m == 0) continue;
     store_compressed(reinterpret_cast<int32_t*>(out[kId] + count), m, vintK(static_cast<int32_t>(i)) + lane_index());
     for (int a = 0; a < 3; ++a) {
-      const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
-      const vfloatK inv = vfloatK(1.0f) / safe;
-      store_compressed(out[kRdirX + a] + count, m, inv);
-      store_compressed(out[kOrgRdirX + a] + count, m, org[a] * inv);
+      store_compressed(out[kRdirX + a] + count, m, r.rdir[a]);
+      store_compressed(out[kOrgRdirX + a] + count, m, r.org_rdir[a]);
     }
-    if constexpr (kTmin) store_compressed(out[kTminField] + count, m, tmin);
+    if constexpr (kTmin) store_compressed(out[kTminField] + count, m, r.tmin);
     count += std::popcount(m);
   }
   return {bvh.root, 0, count, room, kFields * room};
@@ -516,29 +536,17 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t
   static_assert(kMaskedRays % kLanes == 0 && kMaskedRays <= 64);
   constexpr uint32_t kRoom = kMaskedRays + kMaxLanes;
   alignas(64) float rdir[3][kRoom], org_rdir[3][kRoom], tmin_of[kTmin ? kRoom : 1];
-  const vfloatK min_dir(NodeRay::kMinDir);
   uint64_t set = 0;  // the rays traced: traceable, not blocked before
   for (size_t i = 0; i < rays.size; i += kLanes) {
     const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
-    auto load = [&](const float* a) {  // lanes past the end read the last ray
-      if (valid == lanes_below(kLanes)) return vfloatK::load_unaligned(a + i);
-      alignas(64) float tail[kLanes];
-      for (size_t l = 0; l < kLanes; ++l) tail[l] = a[std::min(i + l, rays.size - 1)];
-      return vfloatK::load_aligned(tail);
-    };
-    vfloatK org[3], dir[3];
-    for (int a = 0; a < 3; ++a) org[a] = load(rays.org[a]), dir[a] = load(rays.dir[a]);
-    const vfloatK tmin = rays.tmin ? load(rays.tmin) : vfloatK(0.0f), tmax = load(rays.tmax);
-    vboolK traceable = (tmin < tmax) & (load(live_tmax) != vfloatK(-INFINITY));
-    for (int a = 0; a < 3; ++a) traceable = traceable & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
-    set |= uint64_t(lane_mask(traceable) & valid) << i;
+    const SlabLanes r = slab_lanes(rays, i);
+    const vboolK open = load_part_lanes(live_tmax, i, rays.size) != vfloatK(-INFINITY);
+    set |= uint64_t(lane_mask(r.traceable & open) & valid) << i;
     for (int a = 0; a < 3; ++a) {
-      const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
-      const vfloatK inv = vfloatK(1.0f) / safe;
-      inv.store_aligned(rdir[a] + i);
-      (org[a] * inv).store_aligned(org_rdir[a] + i);
+      r.rdir[a].store_aligned(rdir[a] + i);
+      r.org_rdir[a].store_aligned(org_rdir[a] + i);
     }
-    if constexpr (kTmin) tmin.store_aligned(tmin_of + i);
+    if constexpr (kTmin) r.tmin.store_aligned(tmin_of + i);
   }
   auto live = [&] {  // the traced rays not blocked yet
     uint64_t m = 0;
