@@ -107,7 +107,7 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   cmake -S . -B build-aarch64 -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF \
         -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake
   programs=(test_isa test_sampling test_geometry test_loader test_bvh4_build test_bvh4_traversal test_bvh4_robustness
-            test_bvh4_batch test_engines test_light_transport test_engine_contract)
+            test_bvh4_batch test_bvh4_queue test_engines test_light_transport test_engine_contract)
   mkdir -p build-aarch64/qemu
   cmake --build build-aarch64 --target "${programs[@]}"
   echo "run_tests: aarch64 (neon) tests under qemu-aarch64: ${programs[*]}"
