@@ -17,8 +17,21 @@
 
 namespace pt {
 
-/// Starts loading a node (both lines) or a leaf's first block.
-PT_ALWAYS_INLINE void prefetch_target(const Bvh4& bvh, uint32_t ref) {
+/// Trees larger than this (nodes and leaf blocks) have their walks load the
+/// next node or leaf ahead (prefetch_target); smaller ones sit in the L2 and
+/// L3 caches, where the prefetches cost more than the latency they hide
+/// (docs/bvh_and_benchmarks.md: teapot, bunny and CBbunny's captured queues
+/// 0.87-0.91x with them, CBbunny x16 and x64 1.04-1.17x).
+inline constexpr size_t kWalkPrefetchBytes = size_t(8) << 20;
+
+/// Whether walks of `bvh` prefetch what they need next.
+inline bool walks_prefetch(const Bvh4& bvh) {
+  return bvh.nodes.size() * sizeof(Bvh4Node) + bvh.blocks.size() * sizeof(TriangleBlock4) > kWalkPrefetchBytes;
+}
+
+/// Starts loading a node (both lines) or a leaf's first block, if `on`.
+PT_ALWAYS_INLINE void prefetch_target(const Bvh4& bvh, uint32_t ref, bool on) {
+  if (!on) return;
   if (bvh4_ref::is_leaf(ref)) {
     const char* p = reinterpret_cast<const char*>(bvh.leaf_blocks(ref));
     prefetch_l1(p);
@@ -62,7 +75,8 @@ struct AnyState {
 /// Sets state s (closest or any hit) to walk ray r from node or leaf `from`
 /// under `tmax`, as walk `tag`, and starts loading `from`.
 template <class State>
-PT_ALWAYS_INLINE void begin_walk(const Bvh4& bvh, State& s, const Ray& r, uint32_t from, uint32_t tag, float tmax) {
+PT_ALWAYS_INLINE void begin_walk(const Bvh4& bvh, State& s, const Ray& r, uint32_t from, uint32_t tag, float tmax,
+                                 bool prefetch) {
   s.nr = NodeRay(r);
   s.br = decltype(s.br)(r);
   s.tmin = vfloat4(r.tmin);
@@ -70,13 +84,13 @@ PT_ALWAYS_INLINE void begin_walk(const Bvh4& bvh, State& s, const Ray& r, uint32
   s.cur = from;
   s.sp = s.stack;
   s.ray = tag;
-  prefetch_target(bvh, from);
+  prefetch_target(bvh, from, prefetch);
 }
 
 /// One closest-hit step of state s: one inner node, or one leaf and the pop
 /// after it. False when the ray's walk is over.
 template <TriangleForm F, class C>
-PT_ALWAYS_INLINE bool closest_step(const Bvh4& bvh, ClosestState<F>& s, C& counters) {
+PT_ALWAYS_INLINE bool closest_step(const Bvh4& bvh, ClosestState<F>& s, bool prefetch, C& counters) {
   uint32_t cur = s.cur;
   if (!bvh4_ref::is_leaf(cur)) {
     counters.node();
@@ -102,7 +116,7 @@ PT_ALWAYS_INLINE bool closest_step(const Bvh4& bvh, ClosestState<F>& s, C& count
         }
       }
       s.cur = cur;
-      prefetch_target(bvh, cur);
+      prefetch_target(bvh, cur, prefetch);
       return true;
     }
   } else {
@@ -114,14 +128,14 @@ PT_ALWAYS_INLINE bool closest_step(const Bvh4& bvh, ClosestState<F>& s, C& count
     --s.sp;
   } while (s.sp->dist > s.tmax);
   s.cur = s.sp->ref;
-  prefetch_target(bvh, s.cur);
+  prefetch_target(bvh, s.cur, prefetch);
   return true;
 }
 
 /// One any-hit step of state s. False when the walk is over; `blocked` says
 /// whether it ended on an occluder.
 template <TriangleForm F, class C>
-PT_ALWAYS_INLINE bool any_step(const Bvh4& bvh, AnyState<F>& s, bool& blocked, C& counters) {
+PT_ALWAYS_INLINE bool any_step(const Bvh4& bvh, AnyState<F>& s, bool& blocked, bool prefetch, C& counters) {
   uint32_t cur = s.cur;
   if (!bvh4_ref::is_leaf(cur)) {
     counters.node();
@@ -134,10 +148,10 @@ PT_ALWAYS_INLINE bool any_step(const Bvh4& bvh, AnyState<F>& s, bool& blocked, C
         mask &= mask - 1;
         if (mask == 0) break;
         *s.sp++ = cur;
-        prefetch_ref(bvh, cur);
+        if (prefetch) prefetch_ref(bvh, cur);
       }
       s.cur = cur;
-      prefetch_target(bvh, cur);
+      prefetch_target(bvh, cur, prefetch);
       return true;
     }
   } else if (leaf_occludes<F>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), s.br, s.vtmax, counters)) {
@@ -146,7 +160,7 @@ PT_ALWAYS_INLINE bool any_step(const Bvh4& bvh, AnyState<F>& s, bool& blocked, C
   }
   if (s.sp == s.stack) return false;
   s.cur = *--s.sp;
-  prefetch_target(bvh, s.cur);
+  prefetch_target(bvh, s.cur, prefetch);
   return true;
 }
 
@@ -159,6 +173,7 @@ template <TriangleForm F, int K, class Next, class Done, class C>
 inline void bvh4_intersect_interleaved(const Bvh4& bvh, Next&& next, Done&& done, C& counters) {
   using namespace interleaved_detail;
   ClosestState<F> states[K];
+  const bool prefetch = walks_prefetch(bvh);
   auto start = [&](ClosestState<F>& s) {
     Ray r;
     uint32_t from, tag;
@@ -167,7 +182,7 @@ inline void bvh4_intersect_interleaved(const Bvh4& bvh, Next&& next, Done&& done
       return false;
     }
     s.tmax = s.t_start = s.hit.t;
-    begin_walk(bvh, s, r, from, tag, s.tmax);
+    begin_walk(bvh, s, r, from, tag, s.tmax, prefetch);
     return true;
   };
   int live = 0;
@@ -175,7 +190,7 @@ inline void bvh4_intersect_interleaved(const Bvh4& bvh, Next&& next, Done&& done
   while (live > 0) {
     for (ClosestState<F>& s : states) {
       if (s.ray == kNoRay) continue;
-      if (closest_step<F>(bvh, s, counters)) continue;
+      if (closest_step<F>(bvh, s, prefetch, counters)) continue;
       done(s.ray, s.hit, s.tmax < s.t_start);
       if (!start(s)) --live;
     }
@@ -188,6 +203,7 @@ template <TriangleForm F, int K, class Next, class Done, class C>
 inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done, C& counters) {
   using namespace interleaved_detail;
   AnyState<F> states[K];
+  const bool prefetch = walks_prefetch(bvh);
   auto start = [&](AnyState<F>& s) {
     Ray r;
     uint32_t from, tag;
@@ -195,7 +211,7 @@ inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done,
       s.ray = kNoRay;
       return false;
     }
-    begin_walk(bvh, s, r, from, tag, r.tmax);
+    begin_walk(bvh, s, r, from, tag, r.tmax, prefetch);
     return true;
   };
   int live = 0;
@@ -204,7 +220,7 @@ inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done,
     for (AnyState<F>& s : states) {
       if (s.ray == kNoRay) continue;
       bool blocked = false;
-      if (any_step<F>(bvh, s, blocked, counters)) continue;
+      if (any_step<F>(bvh, s, blocked, prefetch, counters)) continue;
       done(s.ray, blocked);
       if (!start(s)) --live;
     }

@@ -56,7 +56,7 @@ inline void count_block(C& c, const TriangleBlock4& b) {
 
 /// Starts loading what a deferred reference points to: a node and the head of
 /// the next one, or a leaf's first block.
-inline void prefetch_ref(const Bvh4& bvh, uint32_t ref) {
+PT_ALWAYS_INLINE void prefetch_ref(const Bvh4& bvh, uint32_t ref) {
   const char* p = bvh4_ref::is_leaf(ref) ? reinterpret_cast<const char*>(bvh.leaf_blocks(ref))
                                          : reinterpret_cast<const char*>(&bvh.node(ref));
   prefetch_l1(p);
@@ -66,7 +66,7 @@ inline void prefetch_ref(const Bvh4& bvh, uint32_t ref) {
 
 /// Starts loading the node after inner node `ref` in memory: its first inner
 /// child, as nodes are stored depth first.
-inline void prefetch_first_child(const Bvh4& bvh, uint32_t ref) {
+PT_ALWAYS_INLINE void prefetch_first_child(const Bvh4& bvh, uint32_t ref) {
   if (bvh4_ref::is_leaf(ref)) return;
   const char* p = reinterpret_cast<const char*>(&bvh.node(ref)) + sizeof(Bvh4Node);
   prefetch_l1(p);

@@ -233,6 +233,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
     Ray records[kLanes];
     for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
       const size_t n = std::min(kLanes, rays.size - i0);
+      prefetch_queue_rays(rays, i0 + kQueuePrefetchRays);
       RayPacket p = load_ray_packet(rays, i0, n, records);
       PacketHits h;
       if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
@@ -261,6 +262,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   Ray records[kLanes];
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
     const size_t n = std::min(kLanes, rays.size - i0);
+    prefetch_queue_rays(rays, i0 + kQueuePrefetchRays);
     RayPacket p = load_ray_packet(rays, i0, n, records);
     uint32_t hit = s.spheres().empty() ? 0 : spheres_block_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, p.active);
     p.active &= ~hit;

@@ -149,8 +149,13 @@ inline vfloat4 fused_mul_sub(vfloat4 x, vfloat4 y, vfloat4 z) {
 #endif
 }
 
-/// Hints the cache to load the 64-byte line holding p.
-inline void prefetch_l1(const void* p) { __builtin_prefetch(p, 0, 3); }
+/// Hints the cache to load the 64-byte line holding p. Always inlined: GCC
+/// takes a function whose body is only __builtin_prefetch for one without
+/// side effects, and where it declines to inline it (into a caller with seven
+/// or more such calls, or one that grew past its limits) it deletes the calls
+/// as dead code, prefetches and all. So must be every helper made only of
+/// prefetches.
+PT_ALWAYS_INLINE void prefetch_l1(const void* p) { __builtin_prefetch(p, 0, 3); }
 
 /// Flushes denormal results and inputs to zero on the calling thread (what
 /// Embree asks of its callers). Results change only where a value would be

@@ -277,15 +277,14 @@ TEST(Bvh4Queue, SceneExtentIsTheDiagonalOfTheSceneBounds) {
   EXPECT_EQ(scene_extent(SceneBvh4(Scene{}).bvh()), 0.0f);
 }
 
-TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
-  // The walks the stream leaves to single rays, run eight in flight: from
-  // every child of the root, under a nearest hit already found, each walk
-  // ends where the single-ray traversal from the same node ends.
-  Scene sphere = tessellated_sphere(5, {0, 0, 0}, 1.0f);
+// The walks the stream leaves to single rays, run eight in flight: from
+// every child of the root, under a nearest hit already found, each walk ends
+// where the single-ray traversal from the same node ends.
+void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_count) {
   SceneBvh4 scene_bvh(sphere);
   const Bvh4& bvh = scene_bvh.bvh();
   ASSERT_FALSE(bvh4_ref::is_leaf(bvh.root));
-  std::vector<Ray> rays = uniform_random_rays(sphere, 500, 20);
+  std::vector<Ray> rays = uniform_random_rays(sphere, ray_count, 20);
   struct Walk {
     uint32_t ray, start;
     Hit hit;
@@ -338,6 +337,20 @@ TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
     EXPECT_EQ(blocked[w], int(bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, walks[w].start,
                                                                                  rays[walks[w].ray], counters)))
         << "walk " << w;
+}
+
+TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
+  Scene sphere = tessellated_sphere(5, {0, 0, 0}, 1.0f);
+  ASSERT_FALSE(walks_prefetch(SceneBvh4(sphere).bvh()));  // a tree the caches hold: no prefetches
+  expect_interleaved_walks_match_single_rays(sphere, 500);
+}
+
+TEST(Bvh4Queue, InterleavedWalksThatPrefetchMatchSingleRayWalks) {
+  // 327,680 triangles: a tree past kWalkPrefetchBytes, whose walks load the
+  // next node or leaf ahead.
+  Scene sphere = tessellated_sphere(7, {0, 0, 0}, 1.0f);
+  ASSERT_TRUE(walks_prefetch(SceneBvh4(sphere).bvh()));
+  expect_interleaved_walks_match_single_rays(sphere, 200);
 }
 
 TEST(Bvh4Queue, ADeepTreeWhoseListsThinOutMatchesSingleRays) {
