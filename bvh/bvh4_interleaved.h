@@ -21,7 +21,7 @@ namespace pt {
 /// next node or leaf ahead (prefetch_target); smaller ones sit in the L2 and
 /// L3 caches, where the prefetches cost more than the latency they hide
 /// (docs/bvh_and_benchmarks.md: teapot, bunny and CBbunny's captured queues
-/// 0.87-0.91x with them, CBbunny x16 and x64 1.04-1.17x).
+/// 0.89-0.93x with them, CBbunny x16 and x64 1.07-1.14x).
 inline constexpr size_t kWalkPrefetchBytes = size_t(8) << 20;
 
 /// Whether walks of `bvh` prefetch what they need next.
