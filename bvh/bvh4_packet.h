@@ -17,7 +17,6 @@
 #include "bvh4.h"
 #include "bvh4_node_test.h"
 #include "bvh4_traverse.h"
-#include "queue_prefetch.h"
 #include "kernels/math/ray.h"
 #include "kernels/math/ray_arrays.h"
 #include "kernels/simd/simd.h"

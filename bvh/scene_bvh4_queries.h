@@ -15,6 +15,7 @@
 #include "bvh4_stream.h"
 #include "bvh4_traverse.h"
 #include "queue_coherence.h"
+#include "queue_prefetch.h"
 #include "kernels/scene/sphere_intersect.h"
 #include "kernels/scene/sphere_intersect_lanes.h"
 #include "scene_bvh4.h"

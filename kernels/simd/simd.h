@@ -154,7 +154,8 @@ inline vfloat4 fused_mul_sub(vfloat4 x, vfloat4 y, vfloat4 z) {
 /// side effects, and where it declines to inline it (into a caller with seven
 /// or more such calls, or one that grew past its limits) it deletes the calls
 /// as dead code, prefetches and all. So must be every helper made only of
-/// prefetches.
+/// prefetches that its own file calls (one called from another file, with no
+/// link-time optimisation, stays a call).
 PT_ALWAYS_INLINE void prefetch_l1(const void* p) { __builtin_prefetch(p, 0, 3); }
 
 /// Flushes denormal results and inputs to zero on the calling thread (what

@@ -280,10 +280,12 @@ TEST(Bvh4Queue, SceneExtentIsTheDiagonalOfTheSceneBounds) {
 // The walks the stream leaves to single rays, run eight in flight: from
 // every child of the root, under a nearest hit already found, each walk ends
 // where the single-ray traversal from the same node ends.
-void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_count) {
+// `prefetching`: whether the tree is one whose walks prefetch (walks_prefetch).
+void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_count, bool prefetching) {
   SceneBvh4 scene_bvh(sphere);
   const Bvh4& bvh = scene_bvh.bvh();
   ASSERT_FALSE(bvh4_ref::is_leaf(bvh.root));
+  ASSERT_EQ(walks_prefetch(bvh), prefetching);
   std::vector<Ray> rays = uniform_random_rays(sphere, ray_count, 20);
   struct Walk {
     uint32_t ray, start;
@@ -340,17 +342,14 @@ void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_
 }
 
 TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
-  Scene sphere = tessellated_sphere(5, {0, 0, 0}, 1.0f);
-  ASSERT_FALSE(walks_prefetch(SceneBvh4(sphere).bvh()));  // a tree the caches hold: no prefetches
-  expect_interleaved_walks_match_single_rays(sphere, 500);
+  // A tree the caches hold: no prefetches.
+  expect_interleaved_walks_match_single_rays(tessellated_sphere(5, {0, 0, 0}, 1.0f), 500, false);
 }
 
 TEST(Bvh4Queue, InterleavedWalksThatPrefetchMatchSingleRayWalks) {
   // 327,680 triangles: a tree past kWalkPrefetchBytes, whose walks load the
   // next node or leaf ahead.
-  Scene sphere = tessellated_sphere(7, {0, 0, 0}, 1.0f);
-  ASSERT_TRUE(walks_prefetch(SceneBvh4(sphere).bvh()));
-  expect_interleaved_walks_match_single_rays(sphere, 200);
+  expect_interleaved_walks_match_single_rays(tessellated_sphere(7, {0, 0, 0}, 1.0f), 200, true);
 }
 
 TEST(Bvh4Queue, ADeepTreeWhoseListsThinOutMatchesSingleRays) {
