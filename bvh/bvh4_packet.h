@@ -30,10 +30,16 @@ namespace pt {
 /// K rays in SoA form with the per-packet constants of the slab test.
 struct RayPacket {
   vfloatK org[3], dir[3], rdir[3], org_rdir[3], tmin, tmax;
-  const Ray* rays = nullptr;           ///< the rays of the lanes, for single-ray traversal of sparse subtrees
+  const Ray* rays = nullptr;           ///< the rays of the lanes as records, or null: they are `queue`'s from `first`
+  const RayArrays* queue = nullptr;    ///< the queue of the lanes' rays when they have no records
+  size_t first = 0;                    ///< the first lane's index in `queue`
   uint32_t active = 0;                 ///< lanes that trace (requested and traceable)
   bool uniform = false;                ///< all active lanes share the sign of each direction component
   uint32_t near[3] = {}, far[3] = {};  ///< plane rows when uniform
+
+  /// Lane i's ray, for the single-ray traversal of a sparse subtree: made
+  /// only for the lanes that need it, not for every ray of a queue.
+  Ray ray(uint32_t i) const { return rays ? rays[i] : queue->ray(first + i); }
 };
 
 /// Closest hits of a packet in SoA form; lanes without a hit keep prim = kInvalidId.
@@ -109,11 +115,13 @@ load_ray_packet(const Ray* rays, uint32_t lanes) {
 }
 
 /// Loads a packet of K consecutive rays of a queue held as arrays, rays
-/// [i0, i0 + n) with n <= K, the lanes past n copying the first ray; `rays`
-/// receives them as records too (the packet's single-ray walks read them).
-inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n, Ray* rays) {
+/// [i0, i0 + n) with n <= K, the lanes past n copying the first ray. The
+/// packet reads its rays back from the queue (RayPacket::ray), which must
+/// outlive it.
+inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n) {
   RayPacket p;
-  p.rays = rays;
+  p.queue = &q;
+  p.first = i0;
   const uint32_t lanes = lanes_below(n);
   auto load = [&](const float* a) {
     if (n == kLanes) return vfloatK::load_unaligned(a + i0);
@@ -124,7 +132,6 @@ inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n, Ray* r
   for (int a = 0; a < 3; ++a) p.org[a] = load(q.org[a]), p.dir[a] = load(q.dir[a]);
   p.tmin = q.tmin ? load(q.tmin) : vfloatK(0.0f);
   p.tmax = load(q.tmax);
-  for (size_t l = 0; l < n; ++l) rays[l] = q.ray(i0 + l);
   finish_ray_packet(p, lanes);
   return p;
 }
@@ -202,7 +209,7 @@ inline void intersect_rays_below(const Bvh4& bvh, uint32_t ref, uint32_t lanes, 
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);
     Hit hit{l.t[i], l.u[i], l.v[i], static_cast<uint32_t>(l.prim[i])};
-    if (!bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.rays[i], hit, counters)) continue;
+    if (!bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.ray(i), hit, counters)) continue;
     l.t[i] = hit.t, l.u[i] = hit.u, l.v[i] = hit.v, l.prim[i] = static_cast<int32_t>(hit.prim);
     found = true;
   }
@@ -215,7 +222,7 @@ inline uint32_t occluded_rays_below(const Bvh4& bvh, uint32_t ref, uint32_t lane
   NoCounters counters;
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);
-    if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.rays[i], counters)) blocked |= 1u << i;
+    if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, p.ray(i), counters)) blocked |= 1u << i;
   }
   return blocked;
 }

@@ -169,8 +169,7 @@ template <class C>
                                                 const HitArrays& hits, C& c) {
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {  // each ray under the hit the tree gave it
     const size_t n = std::min(kLanes, rays.size - i0);
-    Ray records[kLanes];
-    const RayPacket r = load_ray_packet(rays, i0, n, records);  // active: the traceable rays
+    const RayPacket r = load_ray_packet(rays, i0, n);  // active: the traceable rays
     c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.active)));
     alignas(64) float t[kLanes], u[kLanes], v[kLanes];
     alignas(64) int32_t prim[kLanes];
@@ -198,8 +197,7 @@ template <class C>
                                            uint8_t* blocked, C& c) {
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
     const size_t n = std::min(kLanes, rays.size - i0);
-    Ray records[kLanes];
-    const RayPacket r = load_ray_packet(rays, i0, n, records);  // active: the traceable rays
+    const RayPacket r = load_ray_packet(rays, i0, n);  // active: the traceable rays
     c.primitives_tested(static_cast<uint32_t>(spheres.size() * std::popcount(r.active)));
     for (uint32_t m = spheres_block_lanes(spheres, r.org, r.dir, r.tmin, r.tmax, r.active); m != 0; m &= m - 1)
       blocked[i0 + std::countr_zero(m)] = 1;
@@ -231,22 +229,25 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   }
   if (coherent) {
     std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
-    Ray records[kLanes];
     for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
       const size_t n = std::min(kLanes, rays.size - i0);
       prefetch_queue_rays(rays, i0 + kQueuePrefetchRays);
-      RayPacket p = load_ray_packet(rays, i0, n, records);
+      RayPacket p = load_ray_packet(rays, i0, n);
       PacketHits h;
       if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
       else bvh4_intersect_packet<false>(s.bvh(), p, h);
-      // A miss keeps t = tmax and writes u = v = 0 (the packet leaves them 0).
+      // A miss (or an untraceable ray) keeps t = tmax, u = v = 0 and prim =
+      // kInvalidId: the packet changes a lane's values only where it hits.
       if (!spheres.empty()) closest_spheres_lanes(spheres, p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
-      const PacketHitLanes l(p, h);
-      for (size_t k = 0; k < n; ++k) {
-        Hit hit{l.t[k], l.u[k], l.v[k], static_cast<uint32_t>(l.prim[k])};
-        if (!hit.valid()) hit = Hit{records[k].tmax, 0.0f, 0.0f, kInvalidId};
-        hits.store(i0 + k, hit);
+      if (n == kLanes) {
+        p.tmax.store_unaligned(hits.t + i0);
+        h.u.store_unaligned(hits.u + i0);
+        h.v.store_unaligned(hits.v + i0);
+        h.prim.store_unaligned(reinterpret_cast<int32_t*>(hits.prim + i0));
+        continue;
       }
+      const PacketHitLanes l(p, h);
+      for (size_t k = 0; k < n; ++k) hits.store(i0 + k, Hit{l.t[k], l.u[k], l.v[k], static_cast<uint32_t>(l.prim[k])});
     }
     return;
   }
@@ -260,11 +261,10 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
 /// of K consecutive rays (spheres first, lane by lane). Kept out of line: it
 /// runs once per queue, and inlined it would grow the engines' hot loops.
 [[gnu::noinline]] inline void occluded_queue_as_packets(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked) {
-  Ray records[kLanes];
   for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
     const size_t n = std::min(kLanes, rays.size - i0);
     prefetch_queue_rays(rays, i0 + kQueuePrefetchRays);
-    RayPacket p = load_ray_packet(rays, i0, n, records);
+    RayPacket p = load_ray_packet(rays, i0, n);
     uint32_t hit = s.spheres().empty() ? 0 : spheres_block_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, p.active);
     p.active &= ~hit;
     hit |= triangle_blocked_lanes(s, p);
