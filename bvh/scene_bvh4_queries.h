@@ -150,14 +150,14 @@ inline void intersect_packet(const SceneBvh4& s, const Ray* rays, Hit* hits, uin
   PacketHits h;
   if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
   else bvh4_intersect_packet<false>(s.bvh(), p, h);
-  // A miss keeps t = tmax and u = v = 0 (the packet leaves them 0), as the spheres' tmax.
+  // A miss (or an untraceable ray) keeps t = tmax, u = v = 0 and prim =
+  // kInvalidId: the packet changes a lane's values only where it hits.
   if (!s.spheres().empty())
     closest_spheres_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
   const PacketHitLanes l(p, h);
   for (uint32_t m = lanes; m != 0; m &= m - 1) {
     uint32_t i = std::countr_zero(m);
-    uint32_t id = static_cast<uint32_t>(l.prim[i]);
-    hits[i] = id != kInvalidId ? Hit{l.t[i], l.u[i], l.v[i], id} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
+    hits[i] = Hit{l.t[i], l.u[i], l.v[i], static_cast<uint32_t>(l.prim[i])};
   }
 }
 
