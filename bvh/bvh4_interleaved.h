@@ -198,9 +198,11 @@ inline void bvh4_intersect_interleaved(const Bvh4& bvh, Next&& next, Done&& done
 }
 
 /// Walks for any hit, K in flight: next(ray, start, tag) gives the next walk
-/// (false when there is none); done(tag, blocked) receives its end.
-template <TriangleForm F, int K, class Next, class Done, class C>
-inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done, C& counters) {
+/// (false when there is none); done(tag, blocked) receives its end. A walk
+/// whose tag `settled(tag)` says is answered already (its ray blocked in
+/// another walk) ends at its next step, without done.
+template <TriangleForm F, int K, class Next, class Done, class Settled, class C>
+inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done, Settled&& settled, C& counters) {
   using namespace interleaved_detail;
   AnyState<F> states[K];
   const bool prefetch = walks_prefetch(bvh);
@@ -220,11 +222,20 @@ inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done,
     for (AnyState<F>& s : states) {
       if (s.ray == kNoRay) continue;
       bool blocked = false;
-      if (any_step<F>(bvh, s, blocked, prefetch, counters)) continue;
-      done(s.ray, blocked);
+      if (!settled(s.ray)) {
+        if (any_step<F>(bvh, s, blocked, prefetch, counters)) continue;
+        done(s.ray, blocked);
+      }
       if (!start(s)) --live;
     }
   }
+}
+
+/// The same, every walk run to its end.
+template <TriangleForm F, int K, class Next, class Done, class C>
+inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done, C& counters) {
+  bvh4_occluded_interleaved<F, K>(
+      bvh, next, done, [](uint32_t) { return false; }, counters);
 }
 
 }  // namespace pt

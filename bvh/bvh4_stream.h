@@ -426,12 +426,25 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
 inline constexpr int kWalksInFlight = 8;
 inline constexpr size_t kWalkBatch = 64;
 
+/// Whether `n` collected walks go one after the other rather than
+/// interleaved: fewer than there are states in flight (a part's last few),
+/// whose turns would mostly pass over empty states.
+inline bool walks_alone(size_t n) { return n < size_t(kWalksInFlight); }
+
 /// Runs the collected closest-hit walks (rays that go on alone below a node)
 /// kWalksInFlight at a time; a walk that finds a nearer hit than its ray has
 /// by then improves it.
 template <class C>
 inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, QueueScratch& s,
                               C& counters) {
+  if (walks_alone(s.alone.size())) {
+    for (const auto& [id, ref] : s.alone) {
+      Hit h = hits.load(id);
+      if (bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), h, counters)) hits.store(id, h);
+    }
+    s.alone.clear();
+    return;
+  }
   size_t next = 0;
   bvh4_intersect_interleaved<TriangleForm::kMollerTrumbore, kWalksInFlight>(
       bvh,
@@ -448,10 +461,22 @@ inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitA
   s.alone.clear();
 }
 
-/// Runs the collected any-hit walks of rays not yet blocked.
+/// Runs the collected any-hit walks of rays not yet blocked; a walk whose ray
+/// another walk blocks ends there.
 template <class C>
 inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, QueueScratch& s,
                           C& counters) {
+  if (walks_alone(s.alone.size())) {
+    for (const auto& [id, ref] : s.alone) {
+      if (live_tmax[id] == -INFINITY) continue;
+      if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), counters)) {
+        live_tmax[id] = -INFINITY;
+        blocked[id] = 1;
+      }
+    }
+    s.alone.clear();
+    return;
+  }
   size_t next = 0;
   bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, kWalksInFlight>(
       bvh,
@@ -469,7 +494,7 @@ inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* block
         live_tmax[id] = -INFINITY;
         blocked[id] = 1;
       },
-      counters);
+      [&](uint32_t id) { return live_tmax[id] == -INFINITY; }, counters);
   s.alone.clear();
 }
 

@@ -339,6 +339,19 @@ void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_
     EXPECT_EQ(blocked[w], int(bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, walks[w].start,
                                                                                  rays[walks[w].ray], counters)))
         << "walk " << w;
+  // Walks already answered (every third) end unanswered; the others as before.
+  next = 0;
+  std::vector<int> again(walks.size(), -1);
+  bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, 8>(
+      bvh,
+      [&](Ray& r, uint32_t& from, uint32_t& tag) {
+        if (next == walks.size()) return false;
+        r = rays[walks[next].ray], from = walks[next].start, tag = uint32_t(next);
+        ++next;
+        return true;
+      },
+      [&](uint32_t tag, bool b) { again[tag] = b; }, [](uint32_t tag) { return tag % 3 == 0; }, counters);
+  for (size_t w = 0; w < walks.size(); ++w) EXPECT_EQ(again[w], w % 3 == 0 ? -1 : blocked[w]) << "walk " << w;
 }
 
 TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
