@@ -428,8 +428,11 @@ inline constexpr size_t kWalkBatch = 64;
 
 /// Whether `n` collected walks go one after the other rather than
 /// interleaved: fewer than there are states in flight (a part's last few),
-/// whose turns would mostly pass over empty states.
-inline bool walks_alone(size_t n) { return n < size_t(kWalksInFlight); }
+/// whose turns would mostly pass over empty states, and, in a tree the caches
+/// hold (whose walks do not prefetch), fewer than twice that many.
+inline bool walks_alone(const Bvh4& bvh, size_t n) {
+  return n < size_t(walks_prefetch(bvh) ? kWalksInFlight : 2 * kWalksInFlight);
+}
 
 /// Runs the collected closest-hit walks (rays that go on alone below a node)
 /// kWalksInFlight at a time; a walk that finds a nearer hit than its ray has
@@ -437,7 +440,7 @@ inline bool walks_alone(size_t n) { return n < size_t(kWalksInFlight); }
 template <class C>
 inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, QueueScratch& s,
                               C& counters) {
-  if (walks_alone(s.alone.size())) {
+  if (walks_alone(bvh, s.alone.size())) {
     for (const auto& [id, ref] : s.alone) {
       Hit h = hits.load(id);
       if (bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), h, counters)) hits.store(id, h);
@@ -466,7 +469,7 @@ inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitA
 template <class C>
 inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, QueueScratch& s,
                           C& counters) {
-  if (walks_alone(s.alone.size())) {
+  if (walks_alone(bvh, s.alone.size())) {
     for (const auto& [id, ref] : s.alone) {
       if (live_tmax[id] == -INFINITY) continue;
       if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), counters)) {
