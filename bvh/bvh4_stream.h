@@ -469,14 +469,15 @@ inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitA
 template <class C>
 inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, QueueScratch& s,
                           C& counters) {
+  auto block = [&](uint32_t id) {
+    live_tmax[id] = -INFINITY;
+    blocked[id] = 1;
+  };
   if (walks_alone(bvh, s.alone.size())) {
-    for (const auto& [id, ref] : s.alone) {
-      if (live_tmax[id] == -INFINITY) continue;
-      if (bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), counters)) {
-        live_tmax[id] = -INFINITY;
-        blocked[id] = 1;
-      }
-    }
+    for (const auto& [id, ref] : s.alone)
+      if (live_tmax[id] != -INFINITY &&
+          bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), counters))
+        block(id);
     s.alone.clear();
     return;
   }
@@ -493,9 +494,7 @@ inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* block
         return false;
       },
       [&](uint32_t id, bool b) {
-        if (!b) return;
-        live_tmax[id] = -INFINITY;
-        blocked[id] = 1;
+        if (b) block(id);
       },
       [&](uint32_t id) { return live_tmax[id] == -INFINITY; }, counters);
   s.alone.clear();

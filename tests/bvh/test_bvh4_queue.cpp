@@ -324,17 +324,16 @@ void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_
     found += f;
   }
   EXPECT_GT(found, walks.size() / 8);  // many walks find a nearer hit
+  auto next_any_walk = [&](Ray& r, uint32_t& from, uint32_t& tag) {
+    if (next == walks.size()) return false;
+    r = rays[walks[next].ray], from = walks[next].start, tag = uint32_t(next);
+    ++next;
+    return true;
+  };
   next = 0;
   std::vector<int> blocked(walks.size(), -1);
   bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, 8>(
-      bvh,
-      [&](Ray& r, uint32_t& from, uint32_t& tag) {
-        if (next == walks.size()) return false;
-        r = rays[walks[next].ray], from = walks[next].start, tag = uint32_t(next);
-        ++next;
-        return true;
-      },
-      [&](uint32_t tag, bool b) { blocked[tag] = b; }, counters);
+      bvh, next_any_walk, [&](uint32_t tag, bool b) { blocked[tag] = b; }, counters);
   for (size_t w = 0; w < walks.size(); ++w)
     EXPECT_EQ(blocked[w], int(bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, walks[w].start,
                                                                                  rays[walks[w].ray], counters)))
@@ -343,14 +342,8 @@ void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_
   next = 0;
   std::vector<int> again(walks.size(), -1);
   bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, 8>(
-      bvh,
-      [&](Ray& r, uint32_t& from, uint32_t& tag) {
-        if (next == walks.size()) return false;
-        r = rays[walks[next].ray], from = walks[next].start, tag = uint32_t(next);
-        ++next;
-        return true;
-      },
-      [&](uint32_t tag, bool b) { again[tag] = b; }, [](uint32_t tag) { return tag % 3 == 0; }, counters);
+      bvh, next_any_walk, [&](uint32_t tag, bool b) { again[tag] = b; }, [](uint32_t tag) { return tag % 3 == 0; },
+      counters);
   for (size_t w = 0; w < walks.size(); ++w) EXPECT_EQ(again[w], w % 3 == 0 ? -1 : blocked[w]) << "walk " << w;
 }
 
