@@ -180,9 +180,18 @@ PT_ALWAYS_INLINE vboolK child_test(const Bvh4Node& node, int c, const NodeLanes&
 /// this many (the lists of a part stay in the first levels of the cache).
 inline constexpr uint32_t kMaxStreamRays = 4096;
 
+/// Rays of a list whose entry distances order the children for closest hits
+/// (the list's first chunks): at levels with 16 vector registers, the
+/// distances summed over every chunk spill the chunk test's registers, and a
+/// sample of 16 rays orders the children about as well (paired runs in
+/// docs/bvh_and_benchmarks.md); AVX-512's 32 registers take every chunk.
+inline constexpr uint32_t kOrderSampleChunks = kLanes == 16 ? kMaxStreamRays / kLanes : 16 / kLanes;
+
 /// Splits the list of entry e over the children of its node and pushes the
 /// children that rays enter on the stack, the one to visit first on top: by
-/// mean entry distance, nearest first, with `kOrdered` (closest hit); in node
+/// the mean entry distance of the rays of its first kOrderSampleChunks
+/// chunks, nearest first (a child none of them enters last), with `kOrdered`
+/// (closest hit); in node
 /// order, last child first, without (any hit). Two passes: the first tests
 /// every chunk of K rays against the four child boxes and keeps the masks;
 /// the second compacts each child's rays into a list of its own, allocated
@@ -201,12 +210,13 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
   for (int c = 0; c < 4; ++c) child_ok |= uint32_t(node.child[c] != bvh4_ref::kEmptyRef) << c;
   const float* in[kListFields];
   for (uint32_t f = 0; f < kFields; ++f) in[f] = arena.field(e, ListField(f));
-  // Pass 1: the masks of every chunk, the counts and the entry distances.
+  // Pass 1: the masks of every chunk, the counts and the sample's entry distances.
   alignas(64) uint16_t masks[kMaxStreamRays / kLanes][4];
   uint32_t count[4] = {0, 0, 0, 0};
   vfloatK dist[4] = {vfloatK(0.0f), vfloatK(0.0f), vfloatK(0.0f), vfloatK(0.0f)};
   const uint32_t chunks = (e.count + kLanes - 1) / kLanes;
-  for (uint32_t j = 0; j < chunks; ++j) {
+  uint32_t sampled[4] = {0, 0, 0, 0};  // rays whose entry distances the means take
+  auto test_chunk = [&]<bool kDist>(uint32_t j) __attribute__((always_inline)) {
     const uint32_t i = j * kLanes;
     const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
     const vintK id = load_ids(in[kId] + i, valid);
@@ -222,9 +232,15 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
       const uint32_t m = (child_ok >> k & 1) ? lane_mask(child_test(node, k, r, tnear)) & valid : 0;
       masks[j][k] = static_cast<uint16_t>(m);
       count[k] += std::popcount(m);
-      if constexpr (kOrdered) dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
+      if constexpr (kDist) {
+        dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
+        sampled[k] += std::popcount(m);
+      }
     }
-  }
+  };
+  const uint32_t dist_chunks = kOrdered ? std::min<uint32_t>(chunks, kOrderSampleChunks) : 0;
+  for (uint32_t j = 0; j < dist_chunks; ++j) test_chunk.template operator()<true>(j);
+  for (uint32_t j = dist_chunks; j < chunks; ++j) test_chunk.template operator()<false>(j);
   // Pass 2: a list for each child that some rays but not all enter.
   uint32_t top = e.block_end;
   ListEntry hit[4];
@@ -232,7 +248,7 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
   int n = 0;
   for (int k = 0; k < 4; ++k) {
     if (count[k] == 0) continue;
-    if constexpr (kOrdered) mean[n] = xsimd::hadd(dist[k]) / float(count[k]);
+    if constexpr (kOrdered) mean[n] = sampled[k] ? xsimd::hadd(dist[k]) / float(sampled[k]) : INFINITY;
     if (count[k] == e.count) {
       hit[n++] = {node.child[k], e.offset, e.count, e.room, 0};
       continue;
