@@ -191,8 +191,7 @@ inline constexpr uint32_t kOrderSampleChunks = kLanes == 16 ? kMaxStreamRays / k
 /// children that rays enter on the stack, the one to visit first on top: by
 /// the mean entry distance of the rays of its first kOrderSampleChunks
 /// chunks, nearest first (a child none of them enters last), with `kOrdered`
-/// (closest hit); in node
-/// order, last child first, without (any hit). Two passes: the first tests
+/// (closest hit); in node order, last child first, without (any hit). Two passes: the first tests
 /// every chunk of K rays against the four child boxes and keeps the masks;
 /// the second compacts each child's rays into a list of its own, allocated
 /// at the end of e's block, except for a child that every ray enters, which
@@ -215,7 +214,6 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
   uint32_t count[4] = {0, 0, 0, 0};
   vfloatK dist[4] = {vfloatK(0.0f), vfloatK(0.0f), vfloatK(0.0f), vfloatK(0.0f)};
   const uint32_t chunks = (e.count + kLanes - 1) / kLanes;
-  uint32_t sampled[4] = {0, 0, 0, 0};  // rays whose entry distances the means take
   auto test_chunk = [&]<bool kDist>(uint32_t j) __attribute__((always_inline)) {
     const uint32_t i = j * kLanes;
     const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
@@ -232,14 +230,13 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
       const uint32_t m = (child_ok >> k & 1) ? lane_mask(child_test(node, k, r, tnear)) & valid : 0;
       masks[j][k] = static_cast<uint16_t>(m);
       count[k] += std::popcount(m);
-      if constexpr (kDist) {
-        dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
-        sampled[k] += std::popcount(m);
-      }
+      if constexpr (kDist) dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
     }
   };
   const uint32_t dist_chunks = kOrdered ? std::min<uint32_t>(chunks, kOrderSampleChunks) : 0;
   for (uint32_t j = 0; j < dist_chunks; ++j) test_chunk.template operator()<true>(j);
+  uint32_t sampled[4];  // rays whose entry distances the means take: the counts so far
+  std::copy(count, count + 4, sampled);
   for (uint32_t j = dist_chunks; j < chunks; ++j) test_chunk.template operator()<false>(j);
   // Pass 2: a list for each child that some rays but not all enter.
   uint32_t top = e.block_end;
