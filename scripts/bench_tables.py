@@ -92,6 +92,32 @@ def summary_table(trace, scenes):
     return lines
 
 
+def compact_table(trace, build, scenes, threads):
+    """One line per scene: per ray set of the benchmark's five, this BVH4's best / Embree's best as a ratio
+    (with both rates, Mrays/s), then the build times (1 thread) and sizes."""
+    kinds = ["primary", "diffuse", "shadow", "bounce_queues", "shadow_queues"]
+    lines = ["| scene (triangles) | " + " | ".join(k.replace("_", " ") for k in kinds) +
+             " | build ms: ours / Embree HQ | bytes/triangle: ours / Embree |",
+             "|---|" + "---|" * (len(kinds) + 2)]
+    for scene in scenes:
+        cells = []
+        for kind in kinds:
+            row = trace.get((scene, kind, threads), {})
+            ours, _ = best(row, OURS)
+            theirs, _ = best(row, ["embree"])
+            cells.append(f"{ours / theirs:.2f}x ({ours:.1f} / {theirs:.1f})" if ours and theirs else "")
+        b = build.get(scene, {})
+        mine, hq = b.get(("bvh4", 1)), b.get(("embree_high", 1))
+        tris = next((e.get("triangles") for e in b.values()), None)
+        name = f"{scene} ({int(tris):,})" if tris else scene
+        ms = f"{mine['real_time']:.1f} / {hq['real_time']:.1f}" if mine and hq else ""
+        size = (f"{mine.get('bytes_per_triangle', 0):.1f} / {hq.get('bytes_per_triangle', 0):.1f}"
+                if mine and hq else "")
+        if any(cells):
+            lines.append(f"| {name} | " + " | ".join(cells) + f" | {ms} | {size} |")
+    return lines
+
+
 def build_table(scene, builds):
     lines = ["| builder | threads | build ms | bytes per triangle | vs embree_high |",
              "|---|---|---|---|---|"]
@@ -113,6 +139,9 @@ def trace_main(path="out/bench.json"):
     scenes = list(dict.fromkeys([s for (s, _, _) in trace] + list(build)))
     print("## This BVH4's best method against Embree's best\n")
     print("\n".join(summary_table(trace, scenes)) + "\n")
+    for threads in (1, 2):
+        print(f"## Ratios per scene, {threads} thread{'s' if threads > 1 else ''} (ours / Embree's best, Mrays/s)\n")
+        print("\n".join(compact_table(trace, build, scenes, threads)) + "\n")
     for scene in scenes:
         tris = next((e.get("triangles") for e in build.get(scene, {}).values()), None)
         print(f"## {scene}" + (f" ({int(tris):,} triangles)" if tris else "") + "\n")
