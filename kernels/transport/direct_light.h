@@ -139,10 +139,13 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
   const int n = rs.light_samples;
   const T inv_n(1.0f / static_cast<float>(n));
   const T mis_count(bsdf_competes ? static_cast<float>(n) : 0.0f);
+  // Every sample that can arrive leaves above ng (the tests below), so its
+  // origin is offset_origin's for such a direction, the same for all of them.
+  const Vec3T<T> origin{sp.p.x + sp.ng.x * sp.offset, sp.p.y + sp.ng.y * sp.offset, sp.p.z + sp.ng.z * sp.offset};
   auto emit = [&](lane::mask_t<T> ok, const Vec3T<T>& wi, T tmax, const float3& radiance, T factor) {
     ok = ok && sp.on && dot3(sp.ns, wi) > T(0.0f) && dot3(sp.ng, wi) > T(0.0f);
     Vec3T<T> weight{T(radiance.x) * factor, T(radiance.y) * factor, T(radiance.z) * factor};
-    shadow(ok, offset_origin(sp.p, sp.ng, sp.offset, wi), wi, tmax, weight);
+    shadow(ok, origin, wi, tmax, weight);
   };
   uint32_t k = 0;  // light-sample index over all lights, in scene order
   T u1, u2;
@@ -175,7 +178,7 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
       T factor = light_sample_factor(cos_s, es.pdf, mis_count, bsdf_pdf(es.wi, cos_s)) * inv_n;
       lane::mask_t<T> ok = sp.on && es.ok && dot3(sp.ns, es.wi) > T(0.0f) && dot3(sp.ng, es.wi) > T(0.0f);
       Vec3T<T> weight{es.radiance.x * factor, es.radiance.y * factor, es.radiance.z * factor};
-      shadow(ok, offset_origin(sp.p, sp.ng, sp.offset, es.wi), es.wi, T(kInfinity), weight);
+      shadow(ok, origin, es.wi, T(kInfinity), weight);
     }
   else if (scene.sky)
     for (int j = 0; j < n; ++j, ++k) {
