@@ -92,6 +92,11 @@ def summary_table(trace, scenes):
     return lines
 
 
+def triangles_of(builds):
+    """The scene's triangle count, as its build benchmarks report it (None without one)."""
+    return next((e.get("triangles") for e in builds.values()), None)
+
+
 def compact_table(trace, build, scenes, threads):
     """One line per scene: per ray set of the benchmark's five, this BVH4's best / Embree's best as a ratio
     (with both rates, Mrays/s), then the build times (1 thread) and sizes."""
@@ -108,7 +113,7 @@ def compact_table(trace, build, scenes, threads):
             cells.append(f"{ours / theirs:.2f}x ({ours:.1f} / {theirs:.1f})" if ours and theirs else "")
         b = build.get(scene, {})
         mine, hq = b.get(("bvh4", 1)), b.get(("embree_high", 1))
-        tris = next((e.get("triangles") for e in b.values()), None)
+        tris = triangles_of(b)
         name = f"{scene} ({int(tris):,})" if tris else scene
         ms = f"{mine['real_time']:.1f} / {hq['real_time']:.1f}" if mine and hq else ""
         size = (f"{mine.get('bytes_per_triangle', 0):.1f} / {hq.get('bytes_per_triangle', 0):.1f}"
@@ -143,7 +148,7 @@ def trace_main(path="out/bench.json"):
         print(f"## Ratios per scene, {threads} thread{'s' if threads > 1 else ''} (ours / Embree's best, Mrays/s)\n")
         print("\n".join(compact_table(trace, build, scenes, threads)) + "\n")
     for scene in scenes:
-        tris = next((e.get("triangles") for e in build.get(scene, {}).values()), None)
+        tris = triangles_of(build.get(scene, {}))
         print(f"## {scene}" + (f" ({int(tris):,} triangles)" if tris else "") + "\n")
         print("\n".join(trace_table(scene, trace)) + "\n")
         if scene in build:

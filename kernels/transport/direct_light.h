@@ -140,8 +140,9 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
   const T inv_n(1.0f / static_cast<float>(n));
   const T mis_count(bsdf_competes ? static_cast<float>(n) : 0.0f);
   // Every sample that can arrive leaves above ng (the tests below), so its
-  // origin is offset_origin's for such a direction, the same for all of them.
-  const Vec3T<T> origin{sp.p.x + sp.ng.x * sp.offset, sp.p.y + sp.ng.y * sp.offset, sp.p.z + sp.ng.z * sp.offset};
+  // origin is offset_origin's for any such direction (ng itself), the same
+  // for all of them.
+  const Vec3T<T> origin = offset_origin(sp.p, sp.ng, sp.offset, sp.ng);
   auto emit = [&](lane::mask_t<T> ok, const Vec3T<T>& wi, T tmax, const float3& radiance, T factor) {
     ok = ok && sp.on && dot3(sp.ns, wi) > T(0.0f) && dot3(sp.ng, wi) > T(0.0f);
     Vec3T<T> weight{T(radiance.x) * factor, T(radiance.y) * factor, T(radiance.z) * factor};
