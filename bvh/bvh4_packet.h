@@ -114,12 +114,12 @@ load_ray_packet(const Ray* rays, uint32_t lanes) {
   return p;
 }
 
-/// Loads a packet of K consecutive rays of a queue held as arrays, rays
-/// [i0, i0 + n) with n <= K, the lanes past n copying the first ray. The
-/// packet reads its rays back from the queue (RayPacket::ray), which must
+/// Loads a packet of K consecutive rays of a queue held as arrays into p,
+/// rays [i0, i0 + n) with n <= K, the lanes past n copying the first ray.
+/// The packet reads its rays back from the queue (RayPacket::ray), which must
 /// outlive it.
-inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n) {
-  RayPacket p;
+inline void load_ray_packet(const RayArrays& q, size_t i0, size_t n, RayPacket& p) {
+  p.rays = nullptr;
   p.queue = &q;
   p.first = i0;
   const uint32_t lanes = lanes_below(n);
@@ -133,6 +133,12 @@ inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n) {
   p.tmin = q.tmin ? load(q.tmin) : vfloatK(0.0f);
   p.tmax = load(q.tmax);
   finish_ray_packet(p, lanes);
+}
+
+/// The packet of rays [i0, i0 + n) of a queue held as arrays (as above).
+inline RayPacket load_ray_packet(const RayArrays& q, size_t i0, size_t n) {
+  RayPacket p;
+  load_ray_packet(q, i0, n, p);
   return p;
 }
 

@@ -1,11 +1,11 @@
-// When a queue's rays are coherent enough for packets: runs of consecutive
+// When a queue's rays are coherent enough for sets: runs of consecutive
 // rays from one origin or from origins close together, in nearly one
 // direction. A pinhole camera's rays are such runs (a pixel's samples and its
 // neighbours'), and so are the shadow rays of a directional light from the
 // first hits of neighbouring paths; bounce rays and the shadow rays of later
 // vertices are not. The queue tracer (scene_bvh4_queries.h) traces coherent
-// queues as packets, whose subtrees, entered by all their rays, are tested
-// once per packet rather than once per list, and the others as streams.
+// queues as sets of 64 rays under a frustum (bvh4_coherent_set.h), whose
+// nodes cost two 4-wide tests for the whole set, and the others as streams.
 #pragma once
 
 #include <algorithm>

@@ -2,8 +2,8 @@
 // instruction-set level: bvh4_queries_isa.cpp wraps them into the level's
 // table, and the engines' hot loops call them with no dispatch. Spheres are
 // tested after the BVH walk (closest hit) or before it (any hit). A whole
-// queue goes as packets when it comes in coherent runs (queue_coherence.h),
-// else as a stream (bvh4_stream.h).
+// queue goes as coherent sets of 64 rays when it comes in coherent runs
+// (queue_coherence.h, bvh4_coherent_set.h), else as a stream (bvh4_stream.h).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "bvh4_coherent_set.h"
 #include "bvh4_packet.h"
 #include "bvh4_stream.h"
 #include "bvh4_traverse.h"
@@ -204,23 +205,66 @@ template <class C>
   }
 }
 
-/// Whether the queue comes in runs of K rays that packets trace faster than
-/// a stream does (queue_coherence.h).
+/// Whether the queue comes in coherent runs of K rays, which sets trace
+/// faster than a stream does (queue_coherence.h).
 inline bool in_coherent_runs(const SceneBvh4& s, const RayArrays& rays) {
   if (rays.size < 4 * kLanes) return false;  // as in_coherent_runs, without the scene's extent
   return in_coherent_runs(rays, kCoherentSpread * scene_extent(s.bvh()), kLanes);
 }
 
+/// A packet's closest hits (the tree's, then the spheres') into rays
+/// [i0, i0 + n) of the queue's hits. A miss (or an untraceable ray) keeps t =
+/// tmax, u = v = 0 and prim = kInvalidId: the packet changes a lane's values
+/// only where it hits.
+inline void store_packet_hits(std::span<const SceneBvh4::SphereShape> spheres, RayPacket& p, PacketHits& h,
+                              const HitArrays& hits, size_t i0, size_t n) {
+  if (!spheres.empty()) closest_spheres_lanes(spheres, p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
+  if (n == kLanes) {
+    p.tmax.store_unaligned(hits.t + i0);
+    h.u.store_unaligned(hits.u + i0);
+    h.v.store_unaligned(hits.v + i0);
+    h.prim.store_unaligned(reinterpret_cast<int32_t*>(hits.prim + i0));
+    return;
+  }
+  const PacketHitLanes l(p, h);
+  for (size_t k = 0; k < n; ++k) hits.store(i0 + k, Hit{l.t[k], l.u[k], l.v[k], static_cast<uint32_t>(l.prim[k])});
+}
+
+/// Closest hits of a coherent queue, as sets of kSetRays consecutive rays
+/// (bvh4_coherent_set.h); a set whose rays do not share a direction octant
+/// goes packet by packet. Out of line: it runs once per queue.
+[[gnu::noinline]] inline void intersect_queue_as_sets(const SceneBvh4& s, const RayArrays& rays,
+                                                      const HitArrays& hits) {
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  CoherentSet set;
+  for (size_t i0 = 0; i0 < rays.size; i0 += kSetRays) {
+    const size_t n = std::min<size_t>(kSetRays, rays.size - i0);
+    for (size_t k = 0; k < kSetRays; k += 16) prefetch_queue_rays(rays, i0 + kSetRays + k);  // the next set
+    if (set_detail::load_set(rays, i0, n, set)) {
+      bvh4_intersect_set(s.bvh(), set);
+    } else {
+      for (uint32_t j = 0; j < set.packets; ++j) {
+        RayPacket& p = set.packet[j];
+        if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, set.hits[j]);
+        else bvh4_intersect_packet<false>(s.bvh(), p, set.hits[j]);
+      }
+    }
+    for (uint32_t j = 0; j < set.packets; ++j)
+      store_packet_hits(spheres, set.packet[j], set.hits[j], hits, i0 + j * kLanes,
+                        std::min<size_t>(kLanes, n - j * kLanes));
+  }
+}
+
 /// Closest hits of a whole queue: hits as intersect() gives them, ray by ray.
-/// Traced as packets of K rays when the queue comes in coherent runs, as a
+/// Traced as coherent sets when the queue comes in coherent runs, as a
 /// stream otherwise, and ray by ray in the watertight form and, for counted
-/// queries, when the queue comes in coherent runs (packets count nothing).
+/// queries, when the queue comes in coherent runs (sets count nothing).
 template <class C>
 inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
                             C& c) {
   const bool coherent = s.bvh().form == TriangleForm::kMollerTrumbore && in_coherent_runs(s, rays);
   if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && coherent)) {
-    for (size_t i = 0; i < rays.size; ++i) {  // packets count nothing: counted queries go ray by ray
+    for (size_t i = 0; i < rays.size; ++i) {  // sets count nothing: counted queries go ray by ray
       Hit h;
       intersect(s, rays.ray(i), h, c);
       hits.store(i, h);
@@ -228,27 +272,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
     return;
   }
   if (coherent) {
-    std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
-    for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
-      const size_t n = std::min(kLanes, rays.size - i0);
-      prefetch_queue_rays(rays, i0 + kQueuePrefetchRays);
-      RayPacket p = load_ray_packet(rays, i0, n);
-      PacketHits h;
-      if (p.uniform) bvh4_intersect_packet<true>(s.bvh(), p, h);
-      else bvh4_intersect_packet<false>(s.bvh(), p, h);
-      // A miss (or an untraceable ray) keeps t = tmax, u = v = 0 and prim =
-      // kInvalidId: the packet changes a lane's values only where it hits.
-      if (!spheres.empty()) closest_spheres_lanes(spheres, p.org, p.dir, p.tmin, p.tmax, h.u, h.v, h.prim, p.active);
-      if (n == kLanes) {
-        p.tmax.store_unaligned(hits.t + i0);
-        h.u.store_unaligned(hits.u + i0);
-        h.v.store_unaligned(hits.v + i0);
-        h.prim.store_unaligned(reinterpret_cast<int32_t*>(hits.prim + i0));
-        continue;
-      }
-      const PacketHitLanes l(p, h);
-      for (size_t k = 0; k < n; ++k) hits.store(i0 + k, Hit{l.t[k], l.u[k], l.v[k], static_cast<uint32_t>(l.prim[k])});
-    }
+    intersect_queue_as_sets(s, rays, hits);
     return;
   }
   bvh4_intersect_stream(s.bvh(), rays, hits, scratch, c);
@@ -257,17 +281,32 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   closest_spheres_of_queue(spheres, rays, hits, c);
 }
 
-/// blocked[i] = occluded(rays.ray(i)) for every ray of a queue, as packets
-/// of K consecutive rays (spheres first, lane by lane). Kept out of line: it
-/// runs once per queue, and inlined it would grow the engines' hot loops.
-[[gnu::noinline]] inline void occluded_queue_as_packets(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked) {
-  for (size_t i0 = 0; i0 < rays.size; i0 += kLanes) {
-    const size_t n = std::min(kLanes, rays.size - i0);
-    prefetch_queue_rays(rays, i0 + kQueuePrefetchRays);
-    RayPacket p = load_ray_packet(rays, i0, n);
-    uint32_t hit = s.spheres().empty() ? 0 : spheres_block_lanes(s.spheres(), p.org, p.dir, p.tmin, p.tmax, p.active);
-    p.active &= ~hit;
-    hit |= triangle_blocked_lanes(s, p);
+/// blocked[i] = occluded(rays.ray(i)) for every ray of a coherent queue, as
+/// sets of kSetRays consecutive rays (spheres first, lane by lane); a set
+/// whose rays do not share a direction octant goes packet by packet. Out of
+/// line: it runs once per queue.
+[[gnu::noinline]] inline void occluded_queue_as_sets(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked) {
+  std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
+  CoherentSet set;
+  for (size_t i0 = 0; i0 < rays.size; i0 += kSetRays) {
+    const size_t n = std::min<size_t>(kSetRays, rays.size - i0);
+    for (size_t k = 0; k < kSetRays; k += 16) prefetch_queue_rays(rays, i0 + kSetRays + k);  // the next set
+    const bool shared = set_detail::load_set(rays, i0, n, set);
+    uint64_t hit = 0;
+    for (uint32_t j = 0; j < set.packets; ++j) {
+      RayPacket& p = set.packet[j];
+      if (spheres.empty()) continue;
+      const uint32_t m = spheres_block_lanes(spheres, p.org, p.dir, p.tmin, p.tmax, p.active);
+      p.active &= ~m;
+      hit |= uint64_t(m) << (j * kLanes);
+    }
+    set.active &= ~hit;
+    if (shared) {
+      hit |= bvh4_occluded_set(s.bvh(), set);
+    } else {
+      for (uint32_t j = 0; j < set.packets; ++j)
+        hit |= uint64_t(triangle_blocked_lanes(s, set.packet[j])) << (j * kLanes);
+    }
     for (size_t k = 0; k < n; ++k) blocked[i0 + k] = hit >> k & 1;
   }
 }
@@ -280,12 +319,10 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
     return;
   }
   std::span<const SceneBvh4::SphereShape> spheres = s.spheres();
-  // Coherent queues (a directional light's shadow rays from first hits) go as
-  // packets of 16 rays: at AVX-512 they beat the stream, packets of 8 at
-  // AVX2 do not (docs/bvh_and_benchmarks.md, held-out scenes). Packets count
-  // nothing: counted queries take the stream.
-  if (!C::kEnabled && kLanes == 16 && in_coherent_runs(s, rays)) {
-    occluded_queue_as_packets(s, rays, blocked);
+  // Coherent queues (a directional light's shadow rays from first hits) go
+  // as sets. Sets count nothing: counted queries take the stream.
+  if (!C::kEnabled && in_coherent_runs(s, rays)) {
+    occluded_queue_as_sets(s, rays, blocked);
     return;
   }
   if (rays.size > 0) std::memset(blocked, 0, rays.size);  // an empty queue may come with no array

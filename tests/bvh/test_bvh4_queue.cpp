@@ -8,7 +8,8 @@
 // untraceable rays; spheres; the watertight form; a tree deep enough that
 // lists thin out and go on ray by ray; the interleaved walks against the
 // single-ray walks from the same node; any-hit parts of at most 64 rays,
-// traced as one masked set; nothing written past a queue.
+// traced as one masked set; coherent queues traced as sets of 64 rays under
+// a frustum, where it is tightest; nothing written past a queue.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -145,7 +146,7 @@ TEST(Bvh4Queue, SharedScenesMatchSingleRaysBitForBit) {
 TEST(Bvh4Queue, CameraQueuesInPixelOrderMatchSingleRays) {
   // A pinhole camera's queue as the wavefront makes it: every pixel's samples
   // one after the other (one origin, nearly one direction per run of K rays),
-  // which the queue tracer traces as packets.
+  // which the queue tracer traces as coherent sets.
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
   QueueScratch scratch;
@@ -159,12 +160,11 @@ TEST(Bvh4Queue, CameraQueuesInPixelOrderMatchSingleRays) {
   EXPECT_LE(ties, 2u);
 }
 
-TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsPacketsAndMatchSingleRays) {
+TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsSetsAndMatchSingleRays) {
   // The shadow rays of a directional light from the first hits of a queue in
   // pixel order: every pixel's 16 samples hit nearly one point and leave in
   // one direction, so the queue is coherent at every lane width (traced as
-  // packets at 16 lanes, as a stream at fewer); shuffled, it is not (a
-  // stream). Spheres are tested too.
+  // coherent sets); shuffled, it is not (a stream). Spheres are tested too.
   Scene s = built_in_scene();
   SceneBvh4 bvh(s);
   QueueScratch scratch;
@@ -189,6 +189,59 @@ TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsPacketsAndMatchSingleRays
   EXPECT_FALSE(in_coherent_runs(Queue(rays).rays(), near, lanes()));
   ties += expect_queue_matches_single_rays(bvh, rays, scratch, "directional shadow rays shuffled");
   EXPECT_LE(ties, 2u);
+}
+
+/// A coherent queue over scene `s` that also holds the rays where a coherent
+/// set's frustum is tightest or breaks down: a pixel's samples (which make
+/// the queue coherent), the same with tmin > 0, rays along an axis (a zero
+/// direction component, clamped to a huge reciprocal) from a grid above the
+/// scene and through its middle, some of them with -0 where others have +0
+/// (sets that do not share an octant), and untraceable rays; 13 rays past a
+/// whole number of sets.
+std::vector<Ray> coherent_queue_with_edge_cases(const Scene& s) {
+  std::vector<Ray> rays;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> jitter(-1e-3f, 1e-3f);
+  for (const Ray& p : camera_rays(s, 12, 9))
+    for (int k = 0; k < 16; ++k)
+      rays.push_back({p.org, p.tmin, p.dir + float3{jitter(rng), jitter(rng), 0.0f}, p.tmax});
+  std::vector<Ray> late(rays.begin(), rays.begin() + 320);
+  start_past_origin(late, 3, 10);
+  rays.insert(rays.end(), late.begin(), late.end());
+  const float3 lo = s.bounds.lower, ext = s.bounds.extent();
+  for (float y : {s.bounds.upper.y + 0.1f * ext.y, lo.y + 0.5f * ext.y})
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) {
+        const float3 org{lo.x + ext.x * (i + 0.37f) / 12, y, lo.z + ext.z * (j + 0.61f) / 12};  // off diagonals
+        const float zero = (i + j) % 5 == 0 ? -0.0f : 0.0f;
+        rays.push_back({org, 0.0f, {zero, -1.0f, 0.0f}, kInfinity});
+      }
+  for (int i = 0; i < 64; ++i)
+    rays.push_back(
+        {{lo.x - 0.1f * ext.x, lo.y + ext.y * (i + 0.5f) / 64, lo.z + 0.43f * ext.z}, 0.0f, {1, 0, 0}, kInfinity});
+  rays[rays.size() - 70].org.x = NAN;
+  rays[rays.size() - 40].dir.y = INFINITY;
+  const size_t whole = rays.size() / 64 * 64;
+  rays.resize(whole + 13, rays[5]);
+  return rays;
+}
+
+TEST(Bvh4Queue, CoherentSetsMatchSingleRaysWhereTheirFrustumIsTightest) {
+  // A coherent queue goes as sets of 64 rays whose nodes are culled by the
+  // set's frustum (bvh4_coherent_set.h), which must never drop a child that
+  // one of its rays enters: near the world's origin (the built-in Cornell
+  // box: axis-aligned walls, boxes of no thickness, spheres) and far from it
+  // (a sphere mesh 2 units across, 2e4 from the origin), where the frustum's
+  // widening against rounding matters most.
+  const Scene scenes[] = {built_in_scene(), tessellated_sphere(4, {1e4f, -3e3f, 2e4f}, 2.0f)};
+  for (const Scene& s : scenes) {
+    SceneBvh4 bvh(s);
+    QueueScratch scratch;
+    const std::vector<Ray> rays = coherent_queue_with_edge_cases(s);
+    EXPECT_TRUE(in_coherent_runs(Queue(rays).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
+    const size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "coherent sets");
+    EXPECT_LE(ties, 2u);
+  }
 }
 
 TEST(Bvh4Queue, SpheresAnswerInEveryLaneAsTheScalarTestDoes) {
