@@ -47,14 +47,14 @@ struct CoherentSet {
   alignas(64) float rdir[3][kSetRays];
   alignas(64) float org_rdir[3][kSetRays];
   alignas(64) float tmin[kSetRays];
-  alignas(64) float tmax[kSetRays];  ///< as loaded: the first ray's test does not need its later hits
+  alignas(64) float tmax[kSetRays];  ///< as loaded (the first ray's test, a heuristic, goes on without its later hits)
   // The frustum, per axis over the traceable rays. A ray's distance to the
   // plane x_a = b is (b - org) * rdir; over the set's range of org and rdir
   // (rdir of one sign) its least value is reached at org_near and one end of
   // rdir, its greatest at org_far and the other.
   uint32_t near[3] = {}, far[3] = {};   ///< plane rows, as RayPacket's (shared by every packet)
-  vfloat4 rdir_lo[3], rdir_hi[3];      ///< least and greatest reciprocal direction
-  vfloat4 org_near[3], org_far[3];     ///< the origin coordinates that bound the near and far distances
+  vfloat4 rdir_lo[3], rdir_hi[3];       ///< least and greatest reciprocal direction
+  vfloat4 org_near[3], org_far[3];      ///< the origin coordinates that bound the near and far distances
   vfloat4 slack_rdir[3], slack_org[3];  ///< the widening: (|b| slack_rdir + slack_org) for plane b
   float tmin_lo = 0.0f, tmax_hi = 0.0f;
 };
@@ -221,15 +221,14 @@ PT_ALWAYS_INLINE uint32_t lanes_in_leaf(const Bvh4& bvh, uint32_t parent, uint32
   return lanes & lane_mask(tnear <= tfar);
 }
 
-/// A leaf's rays of one packet that go on ray by ray (each with the block
-/// tests of single rays, bvh4_traverse.h) rather than as a packet, which
-/// tests every triangle across all K lanes.
+/// A packet with at most this many rays in a leaf tests it ray by ray (with
+/// the block tests of single rays, bvh4_traverse.h) rather than every
+/// triangle across all K lanes: a lone ray (2, K/4 and K/2 measured alike).
 inline constexpr uint32_t kLeafRaysAlone = 1;
 
 /// Closest hits of the packet's rays in `lanes` among a leaf's triangles:
 /// its tmax and hits take the nearer ones.
-inline void leaf_closest(const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t lanes, RayPacket& p,
-                         PacketHits& h) {
+inline void leaf_closest(const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t lanes, RayPacket& p, PacketHits& h) {
   if (static_cast<uint32_t>(std::popcount(lanes)) > kLeafRaysAlone) {
     for (uint32_t i = 0; i < n_blocks; ++i)
       for (int t = 0; t < 4; ++t)

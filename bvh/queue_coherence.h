@@ -47,12 +47,16 @@ inline float scene_extent(const Bvh4& bvh) {
   return length(hi - lo);
 }
 
-/// Whether the queue's first four runs of `run` rays are coherent: each
-/// ray's origin equal to its run's first or within `near` of it, and its
-/// direction within 2.5 degrees of the first's.
+/// Whether four runs of `run` rays spread over the queue (its first, and
+/// those that start a quarter, half and three quarters of the way through)
+/// are coherent: each ray's origin equal to its run's first or within `near`
+/// of it, and its direction within 2.5 degrees of the first's. Spread, so
+/// that a queue coherent only at its start (sorted later shadow rays, whose
+/// first cell's rays may leave from one point) is not taken for one.
 inline bool in_coherent_runs(const RayArrays& rays, float near, size_t run) {
   if (rays.size < 4 * run) return false;
-  for (size_t p = 0; p < 4 * run; p += run) {
+  for (size_t k = 0; k < 4; ++k) {
+    const size_t p = k * (rays.size / 4) / run * run;
     const Ray first = rays.ray(p);
     const float first_len = length(first.dir);
     for (size_t i = p + 1; i < p + run; ++i) {
