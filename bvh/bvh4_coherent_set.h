@@ -124,7 +124,8 @@ inline bool load_set(const RayArrays& rays, size_t i0, size_t n, CoherentSet& s)
 
 /// The children of `node` that some ray of the set may enter (a bit each),
 /// with a lower bound on every ray's entry distance into each in `fnear`.
-/// Empty slots (lower +inf, upper -inf) give NaN bounds and fail.
+/// An empty slot (lower +inf, upper -inf) gives NaN on every axis (inf -
+/// inf), so its last axis leaves both bounds NaN and it fails.
 PT_ALWAYS_INLINE uint32_t frustum_admits(const Bvh4Node& node, const CoherentSet& s, vfloat4& fnear) {
   auto plane = [&](uint32_t row) { return vfloat4::load_aligned(node.bounds[row]); };
   vfloat4 lo = vfloat4(s.tmin_lo), hi = vfloat4(s.tmax_hi);
@@ -210,6 +211,20 @@ PT_ALWAYS_INLINE uint32_t visit_node(const Bvh4& bvh, uint32_t ref, const Cohere
   return hit[n - 1].ref;
 }
 
+/// Goes down from a popped entry to the leaf its nearest entered children
+/// lead to, pushing the others: `e` then names that leaf, its parent and
+/// slot, and the rays that may enter it. False where no child on the way is
+/// entered.
+PT_ALWAYS_INLINE bool descend_to_leaf(const Bvh4& bvh, const CoherentSet& s, SetEntry& e, SetEntry*& sp) {
+  while (!bvh4_ref::is_leaf(e.ref)) {
+    const uint32_t node = e.ref;
+    e.ref = visit_node(bvh, node, s, e.mask, e.slot, e.dist, sp);
+    if (e.ref == bvh4_ref::kEmptyRef) return false;
+    e.parent = node;
+  }
+  return true;
+}
+
 /// The lanes of packet j that are in `mask` and enter leaf `slot` of
 /// `parent` by their own test (all of them under the root).
 PT_ALWAYS_INLINE uint32_t lanes_in_leaf(const Bvh4& bvh, uint32_t parent, uint32_t slot, const CoherentSet& s,
@@ -290,19 +305,15 @@ inline void bvh4_intersect_set(const Bvh4& bvh, CoherentSet& s) {
   while (sp != stack) {
     SetEntry e = *--sp;
     if (e.dist > s.tmax_hi) continue;  // every ray has a nearer hit by now
-    uint32_t cur = e.ref;
-    while (!bvh4_ref::is_leaf(cur)) {
-      e.parent = cur;
-      cur = visit_node(bvh, cur, s, e.mask, e.slot, e.dist, sp);
-      if (cur == bvh4_ref::kEmptyRef) break;
-    }
-    if (cur == bvh4_ref::kEmptyRef) continue;
+    if (!descend_to_leaf(bvh, s, e, sp)) continue;
+    const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
+    const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
     bool found = false;
     for (uint32_t j = 0; j < s.packets; ++j) {
       const uint32_t lanes = lanes_in_leaf(bvh, e.parent, e.slot, s, j, e.mask);
       if (lanes == 0) continue;
       const vfloatK before = s.packet[j].tmax;
-      leaf_closest(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), lanes, s.packet[j], s.hits[j]);
+      leaf_closest(blocks, n_blocks, lanes, s.packet[j], s.hits[j]);
       found = found || lane_mask(s.packet[j].tmax != before) != 0;
     }
     if (!found) continue;
@@ -325,19 +336,13 @@ inline uint64_t bvh4_occluded_set(const Bvh4& bvh, const CoherentSet& s) {
   while (sp != stack) {
     SetEntry e = *--sp;
     e.mask &= ~blocked;
-    if (e.mask == 0) continue;
-    uint32_t cur = e.ref;
-    while (!bvh4_ref::is_leaf(cur)) {
-      e.parent = cur;
-      cur = visit_node(bvh, cur, s, e.mask, e.slot, e.dist, sp);
-      if (cur == bvh4_ref::kEmptyRef) break;
-    }
-    if (cur == bvh4_ref::kEmptyRef) continue;
+    if (e.mask == 0 || !descend_to_leaf(bvh, s, e, sp)) continue;
+    const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
+    const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
     for (uint32_t j = 0; j < s.packets; ++j) {
       const uint32_t lanes = lanes_in_leaf(bvh, e.parent, e.slot, s, j, e.mask);
       if (lanes == 0) continue;
-      blocked |= uint64_t(leaf_blocked(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), lanes, s.packet[j]))
-                 << (j * kLanes);
+      blocked |= uint64_t(leaf_blocked(blocks, n_blocks, lanes, s.packet[j])) << (j * kLanes);
     }
     if (blocked == s.active) break;
   }
