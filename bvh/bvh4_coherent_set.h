@@ -314,7 +314,7 @@ inline void bvh4_intersect_set(const Bvh4& bvh, CoherentSet& s) {
       if (lanes == 0) continue;
       const vfloatK before = s.packet[j].tmax;
       leaf_closest(blocks, n_blocks, lanes, s.packet[j], s.hits[j]);
-      found = found || lane_mask(s.packet[j].tmax != before) != 0;
+      found = found || (lane_mask(s.packet[j].tmax != before) & s.packet[j].active) != 0;  // (NaN lanes aside)
     }
     if (!found) continue;
     vfloatK hi(-INFINITY);

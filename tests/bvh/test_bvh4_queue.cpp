@@ -191,38 +191,78 @@ TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsSetsAndMatchSingleRays) {
   EXPECT_LE(ties, 2u);
 }
 
-/// A coherent queue over scene `s` that also holds the rays where a coherent
-/// set's frustum is tightest or breaks down: a pixel's samples (which make
-/// the queue coherent), the same with tmin > 0, rays along an axis (a zero
-/// direction component, clamped to a huge reciprocal) from a grid above the
-/// scene and through its middle, some of them with -0 where others have +0
-/// (sets that do not share an octant), and untraceable rays; 13 rays past a
-/// whole number of sets.
-std::vector<Ray> coherent_queue_with_edge_cases(const Scene& s) {
-  std::vector<Ray> rays;
+/// Pads `rays` with copies of its last ray to a whole number of sets, so that
+/// the next group of rays starts a set of its own.
+void pad_to_whole_sets(std::vector<Ray>& rays) {
+  while (rays.size() % 64 != 0) rays.push_back(rays.back());
+}
+
+/// A coherent queue over scene `s` that also holds, each group in sets of
+/// its own, the rays where a coherent set's frustum is tightest or breaks
+/// down: a pixel's samples; the same with tmin > 0, finite tmax of many
+/// lengths and untraceable rays among them; rays along an axis (zero
+/// direction components, clamped to a huge reciprocal) from grids above the
+/// scene and through its middle, all +0, all -0, and mixed (sets that do not
+/// share an octant); a set whose reciprocal directions range from ordinary
+/// to clamped; a directional light's shadow rays from the first hits; 13
+/// rays past a whole number of sets. Each quarter of the queue starts with
+/// two sets of pixel samples, so that the queue is judged coherent
+/// (in_coherent_runs looks at the runs that start its quarters).
+std::vector<Ray> coherent_queue_with_edge_cases(const Scene& s, const SceneBvh4& bvh) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> jitter(-1e-3f, 1e-3f);
-  for (const Ray& p : camera_rays(s, 12, 9))
+  const std::vector<Ray> pixels = camera_rays(s, 12, 9);
+  std::vector<Ray> samples;  // 16 per pixel: 1728 rays, 27 sets
+  for (const Ray& p : pixels)
     for (int k = 0; k < 16; ++k)
-      rays.push_back({p.org, p.tmin, p.dir + float3{jitter(rng), jitter(rng), 0.0f}, p.tmax});
-  std::vector<Ray> late(rays.begin(), rays.begin() + 320);
-  start_past_origin(late, 3, 10);
-  rays.insert(rays.end(), late.begin(), late.end());
+      samples.push_back({p.org, p.tmin, p.dir + float3{jitter(rng), jitter(rng), 0.0f}, p.tmax});
   const float3 lo = s.bounds.lower, ext = s.bounds.extent();
-  for (float y : {s.bounds.upper.y + 0.1f * ext.y, lo.y + 0.5f * ext.y})
-    for (int i = 0; i < 12; ++i)
-      for (int j = 0; j < 12; ++j) {
-        const float3 org{lo.x + ext.x * (i + 0.37f) / 12, y, lo.z + ext.z * (j + 0.61f) / 12};  // off diagonals
-        const float zero = (i + j) % 5 == 0 ? -0.0f : 0.0f;
-        rays.push_back({org, 0.0f, {zero, -1.0f, 0.0f}, kInfinity});
+  std::vector<Ray> group[4];
+  group[0] = samples;
+  std::vector<Ray> late(samples.begin(), samples.begin() + 320);
+  start_past_origin(late, 3, 10);
+  for (size_t i = 0; i < late.size(); i += 4) late[i].tmax = late[i].tmin + length(ext) * (0.4f + 0.05f * (i % 13));
+  late[37].org.x = NAN;
+  late[101].dir.y = INFINITY;
+  late[150].tmin = late[150].tmax;
+  group[0].insert(group[0].end(), late.begin(), late.end());
+  for (int sign : {1, -1, 0})  // all +0, all -0, mixed
+    for (int i = 0; i < 16; ++i)
+      for (int j = 0; j < 8; ++j) {
+        const float y = sign == -1 ? lo.y + 0.5f * ext.y : s.bounds.upper.y + 0.1f * ext.y;
+        const float3 org{lo.x + ext.x * (i + 0.37f) / 16, y, lo.z + ext.z * (j + 0.61f) / 8};  // off diagonals
+        const float zero = sign == -1 || (sign == 0 && (i + j) % 5 == 0) ? -0.0f : 0.0f;
+        group[1].push_back({org, 0.0f, {zero, -1.0f, zero}, kInfinity});
       }
   for (int i = 0; i < 64; ++i)
-    rays.push_back(
+    group[2].push_back(
         {{lo.x - 0.1f * ext.x, lo.y + ext.y * (i + 0.5f) / 64, lo.z + 0.43f * ext.z}, 0.0f, {1, 0, 0}, kInfinity});
-  rays[rays.size() - 70].org.x = NAN;
-  rays[rays.size() - 40].dir.y = INFINITY;
-  const size_t whole = rays.size() / 64 * 64;
-  rays.resize(whole + 13, rays[5]);
+  for (int i = 0; i < 64; ++i)  // rdir.x from about 3 to 1e18, one sign
+    group[2].push_back({{lo.x + ext.x * 0.2f, lo.y + ext.y * (i + 0.5f) / 64, lo.z + ext.z * 0.3f},
+                        0.0f,
+                        {i % 2 ? 1e-20f : 0.3f, -0.2f, 1.0f},
+                        kInfinity});
+  const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
+  for (const Ray& p : pixels) {
+    Hit h;
+    if (!bvh.intersect(p, h)) continue;
+    const float3 at = p.org + p.dir * (h.t * 0.999f);
+    for (int k = 0; k < 16; ++k)
+      group[3].push_back({at + float3{jitter(rng), jitter(rng), jitter(rng)}, 0.0f, to_light, kInfinity});
+  }
+  size_t quarter = 0;
+  for (std::vector<Ray>& g : group) {
+    g.insert(g.begin(), samples.begin(), samples.begin() + 128);
+    pad_to_whole_sets(g);
+    quarter = std::max(quarter, g.size());
+  }
+  std::vector<Ray> rays;
+  for (std::vector<Ray>& g : group) {
+    for (size_t i = 0; g.size() < quarter; i = (i + 64) % samples.size())
+      g.insert(g.end(), samples.begin() + i, samples.begin() + i + 64);
+    rays.insert(rays.end(), g.begin(), g.end());
+  }
+  rays.insert(rays.end(), samples.begin(), samples.begin() + 13);
   return rays;
 }
 
@@ -237,7 +277,7 @@ TEST(Bvh4Queue, CoherentSetsMatchSingleRaysWhereTheirFrustumIsTightest) {
   for (const Scene& s : scenes) {
     SceneBvh4 bvh(s);
     QueueScratch scratch;
-    const std::vector<Ray> rays = coherent_queue_with_edge_cases(s);
+    const std::vector<Ray> rays = coherent_queue_with_edge_cases(s, bvh);
     EXPECT_TRUE(in_coherent_runs(Queue(rays).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
     const size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "coherent sets");
     EXPECT_LE(ties, 2u);
