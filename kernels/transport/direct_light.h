@@ -8,6 +8,7 @@
 // (wavefront). Random dimensions: sample_dimensions.h.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -124,6 +125,29 @@ inline lane::mask_t<T> area_light_may_reach(const AreaLight& l, const ShadingPoi
   return sp.on && !(behind || below_ns || below_ng);
 }
 
+/// Light samples go in groups: the random numbers of a whole group first,
+/// then each sample's light. A sample's numbers (a Sobol point: hashes and bit
+/// reversals) and its light (a square root and divisions) are each a long
+/// chain of dependent instructions; taken one sample after the other, the
+/// chains of two samples lie too far apart in the instruction stream for the
+/// CPU to run them side by side, and shading waits on them. The same numbers
+/// in the same order, so the image does not change.
+inline constexpr int kLightSampleGroup = 4;
+
+/// Calls each(u1, u2) for light samples k .. k + n - 1 of vertex `vertex`
+/// (random dimensions light_dim(k) and the next), in order; k ends past them.
+template <class T, class U, class Each>
+PT_ALWAYS_INLINE void for_light_samples(const PathSamplerT<U, T>& ps, uint32_t vertex, int n, uint32_t& k,
+                                        Each&& each) {
+  for (int j0 = 0; j0 < n; j0 += kLightSampleGroup) {
+    const int g = std::min(kLightSampleGroup, n - j0);
+    T u1[kLightSampleGroup], u2[kLightSampleGroup];
+    for (int j = 0; j < g; ++j) ps.get2d(vertex, dims::light_dim(k + static_cast<uint32_t>(j)), u1[j], u2[j]);
+    for (int j = 0; j < g; ++j) each(u1[j], u2[j]);
+    k += static_cast<uint32_t>(g);
+  }
+}
+
 /// Calls shadow(ok, origin, wi, tmax, weight) for every light sample of
 /// vertex `vertex` at point `sp`: `weight` is the RGB radiance the sample
 /// brings if the shadow ray (origin, wi, [0, tmax)) is unblocked, already
@@ -149,19 +173,17 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
     shadow(ok, origin, wi, tmax, weight);
   };
   uint32_t k = 0;  // light-sample index over all lights, in scene order
-  T u1, u2;
   for (const AreaLight& light : scene.area_lights) {
     if (!lane::any(area_light_may_reach(light, sp))) {  // no sample would pass; the numbering goes on
       k += static_cast<uint32_t>(n);
       continue;
     }
-    for (int j = 0; j < n; ++j, ++k) {
-      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+    for_light_samples(ps, vertex, n, k, [&](T u1, T u2) {
       AreaLightSampleT<T> ls = sample_area_light<T>(light, sp.p.x, sp.p.y, sp.p.z, u1, u2, rs.cs184_light_pdf);
       T cos_s = dot3(sp.ns, ls.wi);
       emit(ls.facing, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance,
            light_sample_factor(cos_s, ls.pdf, mis_count, bsdf_pdf(ls.wi, cos_s)) * inv_n);
-    }
+    });
   }
   for (const PointLight& light : scene.point_lights) {
     DeltaLightSampleT<T> ls = sample_point_light<T>(light, sp.p);
@@ -172,23 +194,21 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
     emit(sp.on, wi, T(kInfinity), light.radiance, dot3(sp.ns, wi));
   }
   if (scene.environment)
-    for (int j = 0; j < n; ++j, ++k) {
-      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+    for_light_samples(ps, vertex, n, k, [&](T u1, T u2) {
       EnvironmentSampleT<T> es = sample_environment(*scene.environment, u1, u2);
       T cos_s = dot3(sp.ns, es.wi);
       T factor = light_sample_factor(cos_s, es.pdf, mis_count, bsdf_pdf(es.wi, cos_s)) * inv_n;
       lane::mask_t<T> ok = sp.on && es.ok && dot3(sp.ns, es.wi) > T(0.0f) && dot3(sp.ng, es.wi) > T(0.0f);
       Vec3T<T> weight{es.radiance.x * factor, es.radiance.y * factor, es.radiance.z * factor};
       shadow(ok, origin, es.wi, T(kInfinity), weight);
-    }
+    });
   else if (scene.sky)
-    for (int j = 0; j < n; ++j, ++k) {
-      ps.get2d(vertex, dims::light_dim(k), u1, u2);
+    for_light_samples(ps, vertex, n, k, [&](T u1, T u2) {
       Vec3T<T> wi = sample_sky_direction(u1, u2);
       T cos_s = dot3(sp.ns, wi);
       emit(sp.on, wi, T(kInfinity), scene.sky->radiance,
            light_sample_factor(cos_s, T(kInv2Pi), mis_count, bsdf_pdf(wi, cos_s)) * inv_n);
-    }
+    });
 }
 
 /// Calls probe(ok, origin, wi, weight) for every ray of the hit-based direct
@@ -201,14 +221,13 @@ void sample_hemisphere_rays(const Scene& scene, const RenderSettings& rs, const 
   const uint32_t n = hemisphere_sample_count(scene, rs);
   const T scale(1.0f / static_cast<float>(n));
   const bool cosine = rs.direct == DirectLighting::kCosine;
-  T u1, u2;
-  for (uint32_t k = 0; k < n; ++k) {
-    ps.get2d(vertex, dims::light_dim(k), u1, u2);
+  uint32_t k = 0;
+  for_light_samples(ps, vertex, static_cast<int>(n), k, [&](T u1, T u2) {
     Vec3T<T> local = cosine ? sample_cosine_hemisphere(u1, u2) : sample_uniform_hemisphere(u1, u2);
     Vec3T<T> wi = to_world(sp.ns.x, sp.ns.y, sp.ns.z, local.x, local.y, local.z);
     lane::mask_t<T> ok = sp.on && dot3(sp.ng, wi) > T(0.0f);
     probe(ok, offset_origin(sp.p, sp.ng, sp.offset, wi), wi, hit_sampling_weight(rs, local.z) * scale);
-  }
+  });
 }
 
 /// The continuation of a path at a Lambertian surface: a cosine-weighted
