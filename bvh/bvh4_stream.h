@@ -90,6 +90,27 @@ PT_ALWAYS_INLINE vintK load_ids(const float* p, uint32_t valid) {
   return valid == lanes_below(kLanes) ? id : xsimd::select(as_int_mask(lanes_of_mask(valid)), id, vintK(0));
 }
 
+/// K indices of a list (load_ids), and whether they run on without a gap:
+/// lists keep queue order, and a render's queues put the rays of neighbouring
+/// points together, so many chunks of a list are runs of the queue, whose
+/// fields then load as vectors instead of being gathered (a gather of K
+/// lanes costs several times a load at AVX2).
+struct ListedIds {
+  vintK id;
+  int32_t first;  ///< the first lane's index
+  bool run;       ///< all K lanes valid, indices first, first + 1, ...
+};
+PT_ALWAYS_INLINE ListedIds listed_ids(const float* p, uint32_t valid) {
+  ListedIds l{load_ids(p, valid), std::bit_cast<int32_t>(p[0]), false};
+  l.run = valid == lanes_below(kLanes) && lane_mask(as_float_mask(l.id == vintK(l.first) + lane_index())) == valid;
+  return l;
+}
+
+/// a[id] of the listed rays' lanes.
+PT_ALWAYS_INLINE vfloatK listed_lanes(const float* a, const ListedIds& l) {
+  return l.run ? vfloatK::load_unaligned(a + l.first) : gather(a, l.id);
+}
+
 /// Whether some ray of the part has tmin != 0 (so lists carry tmin).
 inline bool has_tmin(const RayArrays& rays) {
   if (!rays.tmin) return false;
@@ -217,14 +238,14 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
   auto test_chunk = [&]<bool kDist>(uint32_t j) __attribute__((always_inline)) {
     const uint32_t i = j * kLanes;
     const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
-    const vintK id = load_ids(in[kId] + i, valid);
+    const ListedIds id = listed_ids(in[kId] + i, valid);
     NodeLanes r;
     for (int a = 0; a < 3; ++a) {
       r.rdir[a] = vfloatK::load_unaligned(in[kRdirX + a] + i);
       r.org_rdir[a] = vfloatK::load_unaligned(in[kOrgRdirX + a] + i);
     }
     r.tmin = kTmin ? vfloatK::load_unaligned(in[kTminField] + i) : vfloatK(0.0f);
-    r.tmax = gather(live_tmax, id);
+    r.tmax = listed_lanes(live_tmax, id);
     for (int k = 0; k < 4; ++k) {
       vfloatK tnear;
       const uint32_t m = (child_ok >> k & 1) ? lane_mask(child_test(node, k, r, tnear)) & valid : 0;
@@ -295,6 +316,15 @@ PT_ALWAYS_INLINE TriangleLanes gather_triangle_lanes(const RayArrays& rays, vint
   r.tmin = tmin;
   return r;
 }
+PT_ALWAYS_INLINE TriangleLanes gather_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin) {
+  TriangleLanes r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = listed_lanes(rays.org[a], id);
+    r.dir[a] = listed_lanes(rays.dir[a], id);
+  }
+  r.tmin = tmin;
+  return r;
+}
 
 /// Triangle `lane` of block b against K rays (the block test's operations,
 /// with the triangle repeated over the rays): the lanes of `active` hit
@@ -346,10 +376,12 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
     }
     count_leaf(counters, blocks, n_blocks, rays_here);
     const uint32_t valid_lanes = lanes_below(rays_here);
-    const vintK id = load_ids(ids + i, valid_lanes);
+    const ListedIds listed = listed_ids(ids + i, valid_lanes);
+    const vintK id = listed.id;
     const vboolK valid = lanes_of_mask(valid_lanes);
-    const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
-    vfloatK t = gather(hits.t, id), u(0.0f), v(0.0f);
+    const TriangleLanes r =
+        gather_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
+    vfloatK t = listed_lanes(hits.t, listed), u(0.0f), v(0.0f);
     vintK prim(-1);
     vboolK found(false);
     for (uint32_t b = 0; b < n_blocks; ++b) {
@@ -398,8 +430,9 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
   const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
   for (uint32_t i = 0; i < e.count; i += kLanes) {
     const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
-    const vintK id = load_ids(ids + i, valid);
-    const vfloatK tmax = gather(live_tmax, id);
+    const ListedIds listed = listed_ids(ids + i, valid);
+    const vintK id = listed.id;
+    const vfloatK tmax = listed_lanes(live_tmax, listed);
     const uint32_t live = valid & lane_mask(tmax != vfloatK(-INFINITY));
     if (live == 0) continue;
     if (static_cast<uint32_t>(std::popcount(live)) <= kLeafRaysAlone) {  // each ray alone
@@ -414,7 +447,8 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
       }
       continue;
     }
-    const TriangleLanes r = gather_triangle_lanes(rays, id, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
+    const TriangleLanes r =
+        gather_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
     uint32_t hit = 0;
     for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
       for (int l = 0; l < 4 && hit != live; ++l) {
