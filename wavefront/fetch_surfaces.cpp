@@ -109,6 +109,7 @@ void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, 
     const int32_t* t = tris.indices + 3 * size_t(prim);
     if (!vertices) {
       __builtin_prefetch(t);
+      __builtin_prefetch(tris.material + prim);
       continue;
     }
     for (int k = 0; k < 3; ++k) {

@@ -41,7 +41,7 @@ class SurfaceLanes {
 SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, size_t i0);
 
 /// Starts loading what fetch_surfaces will read for hits [i0, i0 + K): the
-/// triangles' vertex indices if `vertices` is false, else their vertices
+/// triangles' vertex indices and materials if `vertices` is false, else their vertices
 /// (whose indices should have been prefetched a chunk earlier).
 void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, bool vertices);
 
