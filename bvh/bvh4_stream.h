@@ -307,16 +307,18 @@ struct TriangleLanes {
   vfloatK org[3], dir[3], tmin;
 };
 
-PT_ALWAYS_INLINE TriangleLanes gather_triangle_lanes(const RayArrays& rays, vintK id, vfloatK tmin) {
+/// Rays [i, i + K) of a part (lanes past its end repeat its last ray).
+PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, vfloatK tmin) {
   TriangleLanes r;
   for (int a = 0; a < 3; ++a) {
-    r.org[a] = gather(rays.org[a], id);
-    r.dir[a] = gather(rays.dir[a], id);
+    r.org[a] = load_part_lanes(rays.org[a], i, rays.size);
+    r.dir[a] = load_part_lanes(rays.dir[a], i, rays.size);
   }
   r.tmin = tmin;
   return r;
 }
-PT_ALWAYS_INLINE TriangleLanes gather_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin) {
+/// The listed rays' (listed_lanes).
+PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin) {
   TriangleLanes r;
   for (int a = 0; a < 3; ++a) {
     r.org[a] = listed_lanes(rays.org[a], id);
@@ -380,7 +382,7 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
     const vintK id = listed.id;
     const vboolK valid = lanes_of_mask(valid_lanes);
     const TriangleLanes r =
-        gather_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
+        listed_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
     vfloatK t = listed_lanes(hits.t, listed), u(0.0f), v(0.0f);
     vintK prim(-1);
     vboolK found(false);
@@ -448,7 +450,7 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
       continue;
     }
     const TriangleLanes r =
-        gather_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
+        listed_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
     uint32_t hit = 0;
     for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
       for (int l = 0; l < 4 && hit != live; ++l) {
@@ -667,11 +669,8 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t
           }
           continue;
         }
-        const vintK id = vintK(static_cast<int32_t>(i)) + lane_index();
-        const vintK safe_id = xsimd::select(as_int_mask(lanes_of_mask(chunk)), id, vintK(static_cast<int32_t>(i)));
         const TriangleLanes r =
-            gather_triangle_lanes(rays, xsimd::min(safe_id, vintK(static_cast<int32_t>(rays.size - 1))),
-                                  kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f));
+            part_triangle_lanes(rays, i, kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f));
         const vfloatK tmax = vfloatK::load_unaligned(live_tmax + i);
         uint32_t hit = 0;
         for (uint32_t b = 0; b < n_blocks && hit != chunk; ++b)
