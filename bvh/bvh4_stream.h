@@ -101,7 +101,7 @@ struct ListedIds {
   bool run;       ///< all K lanes valid, indices first, first + 1, ...
 };
 PT_ALWAYS_INLINE ListedIds listed_ids(const float* p, uint32_t valid) {
-  ListedIds l{load_ids(p, valid), std::bit_cast<int32_t>(p[0]), false};
+  ListedIds l{load_ids(p, valid), reinterpret_cast<const int32_t*>(p)[0], false};  // the arena's words
   l.run = valid == lanes_below(kLanes) && lane_mask(as_float_mask(l.id == vintK(l.first) + lane_index())) == valid;
   return l;
 }

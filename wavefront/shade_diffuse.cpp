@@ -108,7 +108,8 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
   // out.continuations: reserved by run_wave for the whole shaded queue
   const MaterialArrays& mats = ctx.materials;
 
-  if (n > 0) prefetch_surfaces(ctx, hits, 0, false);
+  prefetch_surfaces(ctx, hits, 0, false);  // the first two chunks' indices: the loop starts two ahead
+  prefetch_surfaces(ctx, hits, kLanes, false);
   for (size_t i0 = 0; i0 < n; i0 += kLanes) {
     prefetch_surfaces(ctx, hits, i0 + 2 * kLanes, false);  // indices two chunks ahead,
     prefetch_surfaces(ctx, hits, i0 + kLanes, true);       // vertices one chunk ahead

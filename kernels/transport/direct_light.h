@@ -18,6 +18,7 @@
 #include "kernels/transport/sample_dimensions.h"
 #include "kernels/math/sampling.h"
 #include "kernels/scene/scene.h"
+#include "kernels/simd/simd.h"
 #include "kernels/transport/shading.h"
 #include "kernels/transport/surface.h"
 
