@@ -273,15 +273,20 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
     }
     const uint32_t room = list_room(count[k]);
     arena.reserve(top, size_t(kFields) * room);
-    float* out[kListFields];
-    for (uint32_t f = 0; f < kFields; ++f) out[f] = arena.field(top, room, ListField(f));
-    for (uint32_t f = 0; f < kFields; ++f) in[f] = arena.field(e, ListField(f));  // the arena may have moved
+    // A list's fields lie `room` words apart: two pointers and two strides
+    // address them all (an array of field pointers stayed on the stack at
+    // AVX2 and was reloaded for every field of every chunk).
+    float* out = arena.field(top, room, ListField(0));
+    const float* in0 = arena.field(e, ListField(0));  // the arena may have moved
+    const size_t in_room = e.room;
     uint32_t written = 0;
     for (uint32_t j = 0; j < chunks; ++j) {
       const uint32_t m = masks[j][k];
       if (m == 0) continue;
-      const uint32_t i = j * kLanes;
-      for (uint32_t f = 0; f < kFields; ++f) store_compressed(out[f] + written, m, vfloatK::load_unaligned(in[f] + i));
+      const float* src = in0 + j * kLanes;
+      float* dst = out + written;
+      for (uint32_t f = 0; f < kFields; ++f, src += in_room, dst += room)
+        store_compressed(dst, m, vfloatK::load_unaligned(src));
       written += std::popcount(m);
       assert(written + kLanes <= room);  // the next K-wide store stays in this list's room
     }
