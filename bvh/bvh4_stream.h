@@ -228,8 +228,8 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
   counters.nodes_tested(e.count);
   uint32_t child_ok = 0;  // non-empty slots
   for (int c = 0; c < 4; ++c) child_ok |= uint32_t(node.child[c] != bvh4_ref::kEmptyRef) << c;
-  const float* in[kListFields];
-  for (uint32_t f = 0; f < kFields; ++f) in[f] = arena.field(e, ListField(f));
+  const float* in = arena.field(e, ListField(0));  // field f at in + f * e.room
+  const size_t in_room = e.room;
   // Pass 1: the masks of every chunk, the counts and the sample's entry distances.
   alignas(64) uint16_t masks[kMaxStreamRays / kLanes][4];
   uint32_t count[4] = {0, 0, 0, 0};
@@ -238,13 +238,14 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
   auto test_chunk = [&]<bool kDist>(uint32_t j) __attribute__((always_inline)) {
     const uint32_t i = j * kLanes;
     const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
-    const ListedIds id = listed_ids(in[kId] + i, valid);
+    const float* p = in + i;
+    const ListedIds id = listed_ids(p + kId * in_room, valid);
     NodeLanes r;
     for (int a = 0; a < 3; ++a) {
-      r.rdir[a] = vfloatK::load_unaligned(in[kRdirX + a] + i);
-      r.org_rdir[a] = vfloatK::load_unaligned(in[kOrgRdirX + a] + i);
+      r.rdir[a] = vfloatK::load_unaligned(p + (kRdirX + a) * in_room);
+      r.org_rdir[a] = vfloatK::load_unaligned(p + (kOrgRdirX + a) * in_room);
     }
-    r.tmin = kTmin ? vfloatK::load_unaligned(in[kTminField] + i) : vfloatK(0.0f);
+    r.tmin = kTmin ? vfloatK::load_unaligned(p + kTminField * in_room) : vfloatK(0.0f);
     r.tmax = listed_lanes(live_tmax, id);
     for (int k = 0; k < 4; ++k) {
       vfloatK tnear;
@@ -277,13 +278,12 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
     // address them all (an array of field pointers stayed on the stack at
     // AVX2 and was reloaded for every field of every chunk).
     float* out = arena.field(top, room, ListField(0));
-    const float* in0 = arena.field(e, ListField(0));  // the arena may have moved
-    const size_t in_room = e.room;
+    in = arena.field(e, ListField(0));  // the arena may have moved
     uint32_t written = 0;
     for (uint32_t j = 0; j < chunks; ++j) {
       const uint32_t m = masks[j][k];
       if (m == 0) continue;
-      const float* src = in0 + j * kLanes;
+      const float* src = in + j * kLanes;
       float* dst = out + written;
       for (uint32_t f = 0; f < kFields; ++f, src += in_room, dst += room)
         store_compressed(dst, m, vfloatK::load_unaligned(src));
