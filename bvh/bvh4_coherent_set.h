@@ -8,7 +8,9 @@
 // rays (bvh4_packet.h) pay four K-wide tests per packet. A child keeps its
 // parent's rays; they are culled packet by packet only at a leaf, by each
 // ray's own slab test of the leaf's box, and then test its triangles as
-// packets do.
+// packets do. When every ray has one direction (a directional light's), the
+// part of each triangle's test that depends on the direction alone is
+// computed once per leaf, not once per packet and triangle.
 //
 // Every ray gets the hit its own traversal gives (exact ties aside): the
 // frustum is conservative (its bounds widened past the rounding of its own
@@ -57,6 +59,10 @@ struct CoherentSet {
   vfloat4 org_near[3], org_far[3];      ///< the origin coordinates that bound the near and far distances
   vfloat4 slack_rdir[3], slack_org[3];  ///< the widening: (|b| slack_rdir + slack_org) for plane b
   float tmin_lo = 0.0f, tmax_hi = 0.0f;
+  /// Every traceable ray has the direction `dir` (a directional light's
+  /// shadow rays): leaves compute its share of each triangle's test once.
+  bool one_direction = false;
+  vfloat4 dir[3];
 };
 
 namespace set_detail {
@@ -67,12 +73,31 @@ namespace set_detail {
 /// rounded, times rdir, rounded), each at most 2^-24 of |b| |rdir| + |org| |rdir|.
 inline constexpr float kSlack = 1.0f / (1 << 20);
 
+/// Whether every traceable ray of the loaded set has the first one's
+/// direction, bit for bit; s.dir takes that direction.
+inline bool in_one_direction(CoherentSet& s) {
+  const RayPacket& first = s.packet[std::countr_zero(s.active) / kLanes];
+  alignas(64) float d[3][kLanes];
+  for (int a = 0; a < 3; ++a) first.dir[a].store_aligned(d[a]);
+  const int lane = std::countr_zero(first.active);
+  for (int a = 0; a < 3; ++a) s.dir[a] = vfloat4(d[a][lane]);
+  for (uint32_t j = 0; j < s.packets; ++j) {
+    const RayPacket& p = s.packet[j];
+    vboolK same(true);
+    for (int a = 0; a < 3; ++a)
+      same = same & as_float_mask(xsimd::bitwise_cast<vintK>(p.dir[a]) == vintK(std::bit_cast<int32_t>(d[a][lane])));
+    if ((lane_mask(same) & p.active) != p.active) return false;
+  }
+  return true;
+}
+
 /// Loads rays [i0, i0 + n) of the queue (n <= kSetRays) as packets, and
 /// their frustum. Returns false when the traceable rays do not share one
 /// direction octant (the set then goes packet by packet).
 inline bool load_set(const RayArrays& rays, size_t i0, size_t n, CoherentSet& s) {
   s.packets = static_cast<uint32_t>((n + kLanes - 1) / kLanes);
   s.active = 0;
+  s.one_direction = false;
   const vfloatK inf(INFINITY), ninf(-INFINITY);
   vfloatK rlo[3] = {inf, inf, inf}, rhi[3] = {ninf, ninf, ninf}, olo[3] = {inf, inf, inf}, ohi[3] = {ninf, ninf, ninf};
   vfloatK tlo = inf, thi = ninf;
@@ -106,6 +131,7 @@ inline bool load_set(const RayArrays& rays, size_t i0, size_t n, CoherentSet& s)
   }
   if (!shared) return false;
   if (s.active == 0) return true;
+  s.one_direction = in_one_direction(s);
   for (int a = 0; a < 3; ++a) {
     const float lo = reduce_min_k(rlo[a]), hi = reduce_max_k(rhi[a]);
     const float o_lo = reduce_min_k(olo[a]), o_hi = reduce_max_k(ohi[a]);
@@ -267,8 +293,10 @@ inline void leaf_closest(const TriangleBlock4* blocks, uint32_t n_blocks, uint32
   if (found) l.load_into(p, h);
 }
 
-/// The packet's rays in `lanes` that a leaf's triangles block.
-inline uint32_t leaf_blocked(const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t lanes, const RayPacket& p) {
+/// The packet's rays in `lanes` that a leaf's triangles block; `terms`, when
+/// not null, are each block's direction terms for the one direction of them all.
+inline uint32_t leaf_blocked(const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t lanes, const RayPacket& p,
+                             const packet_detail::BlockDirectionTerms* terms = nullptr) {
   uint32_t blocked = 0;
   if (static_cast<uint32_t>(std::popcount(lanes)) <= kLeafRaysAlone) {
     alignas(64) float tmax[kLanes];
@@ -285,7 +313,8 @@ inline uint32_t leaf_blocked(const TriangleBlock4* blocks, uint32_t n_blocks, ui
   for (uint32_t i = 0; i < n_blocks && lanes; ++i)
     for (int t = 0; t < 4 && lanes; ++t)
       if (blocks[i].prim[t] != kInvalidId) {
-        const uint32_t hit = packet_detail::occluders_in_packet(blocks[i], t, lanes, p);
+        const uint32_t hit = terms ? packet_detail::occluders_in_packet(blocks[i], terms[i], t, lanes, p)
+                                   : packet_detail::occluders_in_packet(blocks[i], t, lanes, p);
         lanes &= ~hit;
         blocked |= hit;
       }
@@ -339,10 +368,18 @@ inline uint64_t bvh4_occluded_set(const Bvh4& bvh, const CoherentSet& s) {
     if (e.mask == 0 || !descend_to_leaf(bvh, s, e, sp)) continue;
     const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
     const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
+    // The direction terms of the leaf's blocks, for the first packet that tests them.
+    packet_detail::BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
+    bool have_terms = false;
     for (uint32_t j = 0; j < s.packets; ++j) {
       const uint32_t lanes = lanes_in_leaf(bvh, e.parent, e.slot, s, j, e.mask);
       if (lanes == 0) continue;
-      blocked |= uint64_t(leaf_blocked(blocks, n_blocks, lanes, s.packet[j])) << (j * kLanes);
+      if (s.one_direction && !have_terms && static_cast<uint32_t>(std::popcount(lanes)) > kLeafRaysAlone) {
+        for (uint32_t i = 0; i < n_blocks; ++i) terms[i].compute(blocks[i], s.dir);
+        have_terms = true;
+      }
+      blocked |= uint64_t(leaf_blocked(blocks, n_blocks, lanes, s.packet[j], have_terms ? terms : nullptr))
+                 << (j * kLanes);
     }
     if (blocked == s.active) break;
   }

@@ -83,12 +83,27 @@ struct MtNumerators {
   V det, t_num, u_num, v_num;
   typename V::batch_bool_type inside;
 };
+/// The part of a test that depends on the direction alone: P = dir x e2 and
+/// det = e1 . P. Rays that share one direction (a directional light's) share
+/// it, so it can be computed once for all of them, with the same bits.
+template <class V>
+struct MtDirectionTerms {
+  V px, py, pz, det;
+};
+template <class V, class D>
+PT_ALWAYS_INLINE MtDirectionTerms<V> mt_direction_terms(const D (&dir)[3], const V (&e1)[3], const V (&e2)[3]) {
+  MtDirectionTerms<V> d;
+  d.px = dir[1] * e2[2] - dir[2] * e2[1];
+  d.py = dir[2] * e2[0] - dir[0] * e2[2];
+  d.pz = dir[0] * e2[1] - dir[1] * e2[0];
+  d.det = e1[0] * d.px + e1[1] * d.py + e1[2] * d.pz;
+  return d;
+}
+/// The rest of the test, given its direction terms.
 template <class V, class R>
-PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const R& r) {
-  V px = r.dir[1] * e2[2] - r.dir[2] * e2[1];
-  V py = r.dir[2] * e2[0] - r.dir[0] * e2[2];
-  V pz = r.dir[0] * e2[1] - r.dir[1] * e2[0];
-  V det = e1[0] * px + e1[1] * py + e1[2] * pz;
+PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3],
+                                               const MtDirectionTerms<V>& d, const R& r) {
+  const V &px = d.px, &py = d.py, &pz = d.pz, &det = d.det;
   V tx = r.org[0] - v0[0];
   V ty = r.org[1] - v0[1];
   V tz = r.org[2] - v0[2];
@@ -101,6 +116,10 @@ PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3
   V sign = xsimd::bitofsign(det);
   V u_abs = u_num ^ sign, v_abs = v_num ^ sign;
   return {det, t_num, u_num, v_num, (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= (det ^ sign))};
+}
+template <class V, class R>
+PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const R& r) {
+  return mt_numerators(v0, e1, e2, mt_direction_terms(r.dir, e1, e2), r);
 }
 
 /// Moller-Trumbore in lanes of any width (finish_lanes decides the hits).

@@ -191,6 +191,31 @@ TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsSetsAndMatchSingleRays) {
   EXPECT_LE(ties, 2u);
 }
 
+TEST(Bvh4Queue, DirectionalSetsWithOneRayOfAnotherDirectionMatchSingleRays) {
+  // A set whose rays all leave in one direction tests each leaf triangle's
+  // share of the direction once for all of them; one ray of each set
+  // (alternately the first and a later one) turned by about a degree, still
+  // coherent, must keep the set from it, or that ray's answers go wrong.
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  const std::vector<Ray> pixels = camera_rays(s, 32, 24);
+  const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
+  const float3 turned = normalize(float3{0.32f, 1.0f, 0.2f});
+  std::vector<Ray> rays;
+  for (const Ray& p : pixels) {
+    Hit h;
+    if (!bvh.intersect(p, h)) continue;
+    const float3 at = p.org + p.dir * (h.t * 0.999f);
+    for (int k = 0; k < 16; ++k) rays.push_back({at, 0.0f, to_light, kInfinity});
+  }
+  for (size_t set = 0; set * 64 < rays.size(); ++set)
+    rays[std::min(rays.size() - 1, set * 64 + (set % 2 ? 37 : 0))].dir = turned;
+  ASSERT_GE(rays.size(), 4 * lanes());
+  EXPECT_TRUE(in_coherent_runs(Queue(rays).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
+  EXPECT_LE(expect_queue_matches_single_rays(bvh, rays, scratch, "directional sets with one turned ray"), 2u);
+}
+
 /// Pads `rays` with copies of its last ray to a whole number of sets, so that
 /// the next group of rays starts a set of its own.
 void pad_to_whole_sets(std::vector<Ray>& rays) {
