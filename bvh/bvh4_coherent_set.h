@@ -296,7 +296,7 @@ inline void leaf_closest(const TriangleBlock4* blocks, uint32_t n_blocks, uint32
 /// The packet's rays in `lanes` that a leaf's triangles block; `terms`, when
 /// not null, are each block's direction terms for the one direction of them all.
 inline uint32_t leaf_blocked(const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t lanes, const RayPacket& p,
-                             const packet_detail::BlockDirectionTerms* terms = nullptr) {
+                             const BlockDirectionTerms* terms = nullptr) {
   uint32_t blocked = 0;
   if (static_cast<uint32_t>(std::popcount(lanes)) <= kLeafRaysAlone) {
     alignas(64) float tmax[kLanes];
@@ -369,7 +369,7 @@ inline uint64_t bvh4_occluded_set(const Bvh4& bvh, const CoherentSet& s) {
     const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
     const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
     // The direction terms of the leaf's blocks, for the first packet that tests them.
-    packet_detail::BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
+    BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
     bool have_terms = false;
     for (uint32_t j = 0; j < s.packets; ++j) {
       const uint32_t lanes = lanes_in_leaf(bvh, e.parent, e.slot, s, j, e.mask);

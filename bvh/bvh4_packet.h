@@ -167,18 +167,6 @@ inline void child_slabs(const Bvh4Node& node, int c, const RayPacket& p, vfloatK
   }
 }
 
-/// Triangle `lane` of a block's rows, repeated over the K lanes of a packet.
-struct PacketTriangle {
-  vfloatK v0[3], e1[3], e2[3];
-  PT_ALWAYS_INLINE PacketTriangle(const TriangleBlock4& b, int lane) {
-    for (int a = 0; a < 3; ++a) {
-      v0[a] = vfloatK(b.v0[a][lane]);
-      e1[a] = vfloatK(b.r1[a][lane]);
-      e2[a] = vfloatK(b.r2[a][lane]);
-    }
-  }
-};
-
 /// The hits among the packet's rays in `lanes`, from a test's numerators.
 PT_ALWAYS_INLINE bool finish_packet(const MtNumerators<vfloatK>& n, uint32_t lanes, const RayPacket& p,
                                     LaneHits<vfloatK>& out) {
@@ -191,26 +179,9 @@ PT_ALWAYS_INLINE bool finish_packet(const MtNumerators<vfloatK>& n, uint32_t lan
 /// triangle repeated over the rays): the lanes hit within [tmin, tmax).
 inline bool triangle_against_packet(const TriangleBlock4& b, int lane, uint32_t lanes, const RayPacket& p,
                                     LaneHits<vfloatK>& out) {
-  const PacketTriangle t(b, lane);
+  const TriangleRows<vfloatK> t(b, lane);
   return finish_packet(mt_numerators(t.v0, t.e1, t.e2, p), lanes, p, out);
 }
-
-/// The direction terms of a block's four triangles for rays of one direction
-/// (a directional light's shadow rays): P = dir x e2 and det per triangle.
-struct BlockDirectionTerms {
-  alignas(16) float px[4], py[4], pz[4], det[4];
-
-  void compute(const TriangleBlock4& b, const vfloat4 (&dir)[3]) {
-    vfloat4 e1[3], e2[3];
-    for (int a = 0; a < 3; ++a) {
-      e1[a] = vfloat4::load_aligned(b.r1[a]);
-      e2[a] = vfloat4::load_aligned(b.r2[a]);
-    }
-    const MtDirectionTerms<vfloat4> d = mt_direction_terms(dir, e1, e2);
-    d.px.store_aligned(px), d.py.store_aligned(py), d.pz.store_aligned(pz), d.det.store_aligned(det);
-  }
-};
-static_assert(sizeof(BlockDirectionTerms) == 64);
 
 /// Shortens tmax and records the hit in the lanes where triangle `lane` of
 /// block b is closer.
@@ -233,11 +204,10 @@ inline uint32_t occluders_in_packet(const TriangleBlock4& b, int lane, uint32_t 
 /// block's `terms`: the same bits, without the direction's share of the test.
 inline uint32_t occluders_in_packet(const TriangleBlock4& b, const BlockDirectionTerms& terms, int lane, uint32_t lanes,
                                     const RayPacket& p) {
-  const PacketTriangle t(b, lane);
-  const MtDirectionTerms<vfloatK> d{vfloatK(terms.px[lane]), vfloatK(terms.py[lane]), vfloatK(terms.pz[lane]),
-                                    vfloatK(terms.det[lane])};
+  const TriangleRows<vfloatK> t(b, lane);
   LaneHits<vfloatK> hit;
-  return finish_packet(mt_numerators(t.v0, t.e1, t.e2, d, p), lanes, p, hit) ? lane_mask(hit.hit) : 0;
+  return finish_packet(mt_numerators(t.v0, t.e1, t.e2, terms.of<vfloatK>(lane), p), lanes, p, hit) ? lane_mask(hit.hit)
+                                                                                                   : 0;
 }
 
 /// Rays a packet must have in a subtree to traverse it as a packet: with

@@ -332,19 +332,34 @@ PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, cons
   r.tmin = tmin;
   return r;
 }
+/// The listed rays', all of direction `dir`.
+PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id,
+                                                     const vfloatK (&dir)[3], vfloatK tmin) {
+  TriangleLanes r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = listed_lanes(rays.org[a], id);
+    r.dir[a] = dir[a];
+  }
+  r.tmin = tmin;
+  return r;
+}
 
 /// Triangle `lane` of block b against K rays (the block test's operations,
 /// with the triangle repeated over the rays): the lanes of `active` hit
 /// within [tmin, tmax).
 PT_ALWAYS_INLINE bool triangle_lanes(const TriangleBlock4& b, int lane, const TriangleLanes& r, vboolK active,
                                      const vfloatK& tmax, LaneHits<vfloatK>& out) {
-  vfloatK v0[3], e1[3], e2[3];
-  for (int a = 0; a < 3; ++a) {
-    v0[a] = vfloatK(b.v0[a][lane]);
-    e1[a] = vfloatK(b.r1[a][lane]);
-    e2[a] = vfloatK(b.r2[a][lane]);
-  }
-  MtNumerators<vfloatK> n = mt_numerators(v0, e1, e2, r);
+  const TriangleRows<vfloatK> t(b, lane);
+  MtNumerators<vfloatK> n = mt_numerators(t.v0, t.e1, t.e2, r);
+  return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside & active, r.tmin, tmax, out,
+                      [](vboolK m) { return lane_mask(m) != 0; });
+}
+/// triangle_lanes for K rays of the one direction of the block's `terms`.
+PT_ALWAYS_INLINE bool triangle_lanes(const TriangleBlock4& b, const BlockDirectionTerms& terms, int lane,
+                                     const TriangleLanes& r, vboolK active, const vfloatK& tmax,
+                                     LaneHits<vfloatK>& out) {
+  const TriangleRows<vfloatK> t(b, lane);
+  MtNumerators<vfloatK> n = mt_numerators(t.v0, t.e1, t.e2, terms.of<vfloatK>(lane), r);
   return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside & active, r.tmin, tmax, out,
                       [](vboolK m) { return lane_mask(m) != 0; });
 }
@@ -354,6 +369,65 @@ inline void count_leaf(C& counters, const TriangleBlock4* blocks, uint32_t n_blo
   if constexpr (C::kEnabled)
     for (uint32_t b = 0; b < n_blocks; ++b)
       for (int l = 0; l < 4; ++l) counters.primitives_tested(blocks[b].prim[l] != kInvalidId ? rays : 0);
+}
+
+/// Whether every ray of a queue has one direction (a directional light's
+/// shadow rays), and which: then leaves compute each triangle's direction
+/// terms once per visit for all its rays, and read no directions.
+struct QueueDirection {
+  bool one = false;
+  vfloat4 dir4[3];
+  vfloatK dir[3];
+};
+inline QueueDirection direction_of(const RayArrays& rays) {
+  QueueDirection q;
+  if (rays.size == 0) return q;
+  const uint32_t first[3] = {std::bit_cast<uint32_t>(rays.dir[0][0]), std::bit_cast<uint32_t>(rays.dir[1][0]),
+                             std::bit_cast<uint32_t>(rays.dir[2][0])};
+  for (size_t i = 0; i < rays.size; i += kLanes) {
+    vboolK same(true);
+    for (int a = 0; a < 3; ++a)
+      same = same &
+             as_float_mask(xsimd::bitwise_cast<vuintK>(load_part_lanes(rays.dir[a], i, rays.size)) == vuintK(first[a]));
+    if (lane_mask(same) != lanes_below(kLanes)) return q;
+  }
+  q.one = true;
+  for (int a = 0; a < 3; ++a) q.dir4[a] = vfloat4(rays.dir[a][0]), q.dir[a] = vfloatK(rays.dir[a][0]);
+  return q;
+}
+
+/// Each of a leaf's triangles against K rays (the rays in `live` not yet in
+/// the returned mask), in block order, until every live ray is blocked: the
+/// rays blocked. With one direction, the leaf's direction terms are computed
+/// (once, into `terms`) and used.
+template <class C>
+PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks, const TriangleLanes& r,
+                                        uint32_t live, const vfloatK& tmax, const QueueDirection& qd,
+                                        BlockDirectionTerms* terms, bool& have_terms, C& counters) {
+  uint32_t hit = 0;
+  auto each = [&](auto&& test) {
+    for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
+      for (int l = 0; l < 4 && hit != live; ++l) {
+        if (blocks[b].prim[l] == kInvalidId) continue;
+        if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(live & ~hit));
+        LaneHits<vfloatK> h;
+        if (test(b, l, lanes_of_mask(live & ~hit), h)) hit |= lane_mask(h.hit);
+      }
+  };
+  if (!qd.one) {
+    each([&](uint32_t b, int l, vboolK active, LaneHits<vfloatK>& h) {
+      return triangle_lanes(blocks[b], l, r, active, tmax, h);
+    });
+    return hit;
+  }
+  if (!have_terms) {
+    for (uint32_t b = 0; b < n_blocks; ++b) terms[b].compute(blocks[b], qd.dir4);
+    have_terms = true;
+  }
+  each([&](uint32_t b, int l, vboolK active, LaneHits<vfloatK>& h) {
+    return triangle_lanes(blocks[b], terms[b], l, r, active, tmax, h);
+  });
+  return hit;
 }
 
 /// Closest hits of the listed rays in a leaf, K rays at a time, every triangle
@@ -429,10 +503,12 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
 /// time (a chunk of at most kLeafRaysAlone live rays: ray by ray); blocked
 /// rays get live tmax = -inf and blocked[i] = 1.
 template <bool kTmin, class C>
-inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, ListArena& arena, float* live_tmax,
-                     uint8_t* blocked, C& counters) {
+inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const QueueDirection& qd,
+                     ListArena& arena, float* live_tmax, uint8_t* blocked, C& counters) {
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
   const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
+  BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
+  bool have_terms = false;
   const float* ids = arena.field(e, kId);
   const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
   for (uint32_t i = 0; i < e.count; i += kLanes) {
@@ -454,16 +530,10 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
       }
       continue;
     }
+    const vfloatK tmin = kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f);
     const TriangleLanes r =
-        listed_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
-    uint32_t hit = 0;
-    for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
-      for (int l = 0; l < 4 && hit != live; ++l) {
-        if (blocks[b].prim[l] == kInvalidId) continue;
-        if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(live & ~hit));
-        LaneHits<vfloatK> h;
-        if (triangle_lanes(blocks[b], l, r, lanes_of_mask(live & ~hit), tmax, h)) hit |= lane_mask(h.hit);
-      }
+        qd.one ? listed_triangle_lanes(rays, listed, qd.dir, tmin) : listed_triangle_lanes(rays, listed, tmin);
+    uint32_t hit = blocked_lanes(blocks, n_blocks, r, live, tmax, qd, terms, have_terms, counters);
     if (hit == 0) continue;
     alignas(64) int32_t lane_id[kLanes];
     id.store_aligned(lane_id);
@@ -579,8 +649,8 @@ inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArra
 /// Occlusion of rays [0, rays.size) (at most kMaxStreamRays): blocked rays get
 /// live_tmax = -inf and blocked = 1.
 template <bool kTmin, class C>
-inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, ListArena& arena,
-                          QueueScratch& s, C& counters) {
+inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd, uint8_t* blocked,
+                          float* live_tmax, ListArena& arena, QueueScratch& s, C& counters) {
   ListEntry stack[kBvh4StackSize];
   ListEntry* sp = stack;
   *sp++ = root_list<kTmin>(bvh, rays, arena);
@@ -592,7 +662,7 @@ inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* block
         if (live_tmax[ids[i]] != -INFINITY) s.alone.push_back({ids[i], e.ref});
       if (s.alone.size() >= kWalkBatch) run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
     } else if (bvh4_ref::is_leaf(e.ref)) {
-      leaf_any<kTmin>(bvh, e, rays, arena, live_tmax, blocked, counters);
+      leaf_any<kTmin>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
     } else {
       split_node<false, kTmin>(bvh, e, arena, live_tmax, sp, counters);
     }
@@ -611,8 +681,8 @@ inline constexpr uint32_t kMaskedRays = 64;
 /// kStreamMinRays goes on as walks, a leaf as leaf_any takes its chunks.
 /// Small queues (a scene's few later shadow rays) pay for no compaction.
 template <bool kTmin, class C>
-inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax,
-                                 QueueScratch& s, C& counters) {
+inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd, uint8_t* blocked,
+                                 float* live_tmax, QueueScratch& s, C& counters) {
   assert(rays.size <= kMaskedRays);
   static_assert(kMaskedRays % kLanes == 0 && kMaskedRays <= 64);
   constexpr uint32_t kRoom = kMaskedRays + kMaxLanes;
@@ -658,6 +728,8 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t
     if (bvh4_ref::is_leaf(e.ref)) {
       const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
       const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
+      BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
+      bool have_terms = false;
       for (uint32_t i = 0; i < rays.size; i += kLanes) {
         const uint32_t chunk = static_cast<uint32_t>(mask >> i) & lanes_below(kLanes);
         if (chunk == 0) continue;
@@ -677,14 +749,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, uint8_t
         const TriangleLanes r =
             part_triangle_lanes(rays, i, kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f));
         const vfloatK tmax = vfloatK::load_unaligned(live_tmax + i);
-        uint32_t hit = 0;
-        for (uint32_t b = 0; b < n_blocks && hit != chunk; ++b)
-          for (int l = 0; l < 4 && hit != chunk; ++l) {
-            if (blocks[b].prim[l] == kInvalidId) continue;
-            if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(chunk & ~hit));  // as leaf_any
-            LaneHits<vfloatK> h;
-            if (triangle_lanes(blocks[b], l, r, lanes_of_mask(chunk & ~hit), tmax, h)) hit |= lane_mask(h.hit) & chunk;
-          }
+        uint32_t hit = blocked_lanes(blocks, n_blocks, r, chunk, tmax, qd, terms, have_terms, counters);
         for (; hit; hit &= hit - 1) {
           const uint32_t r_id = i + std::countr_zero(hit);
           live_tmax[r_id] = -INFINITY;
@@ -764,13 +829,17 @@ inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t
   float* live_tmax = s.tmax.data();
   for (size_t i = 0; i < rays.size; ++i) live_tmax[i] = blocked[i] ? -INFINITY : rays.tmax[i];
   ListArena arena(s);
+  const QueueDirection qd = direction_of(rays);
   for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
     const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
     if (part.size <= kMaskedRays) {
-      if (has_tmin(part)) occluded_masked_part<true>(bvh, part, blocked + b, live_tmax + b, s, counters);
-      else occluded_masked_part<false>(bvh, part, blocked + b, live_tmax + b, s, counters);
-    } else if (has_tmin(part)) occluded_part<true>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
-    else occluded_part<false>(bvh, part, blocked + b, live_tmax + b, arena, s, counters);
+      if (has_tmin(part)) occluded_masked_part<true>(bvh, part, qd, blocked + b, live_tmax + b, s, counters);
+      else occluded_masked_part<false>(bvh, part, qd, blocked + b, live_tmax + b, s, counters);
+    } else if (has_tmin(part)) {
+      occluded_part<true>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+    } else {
+      occluded_part<false>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+    }
   }
 }
 

@@ -122,6 +122,43 @@ PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3
   return mt_numerators(v0, e1, e2, mt_direction_terms(r.dir, e1, e2), r);
 }
 
+/// Triangle `lane` of a block's rows, repeated over the lanes of V (a
+/// triangle against many rays).
+template <class V>
+struct TriangleRows {
+  V v0[3], e1[3], e2[3];
+  PT_ALWAYS_INLINE TriangleRows(const TriangleBlock4& b, int lane) {
+    for (int a = 0; a < 3; ++a) {
+      v0[a] = V(b.v0[a][lane]);
+      e1[a] = V(b.r1[a][lane]);
+      e2[a] = V(b.r2[a][lane]);
+    }
+  }
+};
+
+/// The direction terms of a block's four triangles for rays that all have
+/// one direction (a directional light's shadow rays), computed once for all
+/// of them: the same bits as each ray's own test computes.
+struct BlockDirectionTerms {
+  alignas(16) float px[4], py[4], pz[4], det[4];
+
+  void compute(const TriangleBlock4& b, const vfloat4 (&dir)[3]) {
+    vfloat4 e1[3], e2[3];
+    for (int a = 0; a < 3; ++a) {
+      e1[a] = vfloat4::load_aligned(b.r1[a]);
+      e2[a] = vfloat4::load_aligned(b.r2[a]);
+    }
+    const MtDirectionTerms<vfloat4> d = mt_direction_terms(dir, e1, e2);
+    d.px.store_aligned(px), d.py.store_aligned(py), d.pz.store_aligned(pz), d.det.store_aligned(det);
+  }
+  /// Triangle `lane`'s terms, repeated over the lanes of V.
+  template <class V>
+  PT_ALWAYS_INLINE MtDirectionTerms<V> of(int lane) const {
+    return {V(px[lane]), V(py[lane]), V(pz[lane]), V(det[lane])};
+  }
+};
+static_assert(sizeof(BlockDirectionTerms) == 64);
+
 /// Moller-Trumbore in lanes of any width (finish_lanes decides the hits).
 template <class V, class AnyFn>
 PT_ALWAYS_INLINE bool mt_lanes(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const MtRayLanes<V>& r,

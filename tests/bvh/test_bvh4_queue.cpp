@@ -216,6 +216,38 @@ TEST(Bvh4Queue, DirectionalSetsWithOneRayOfAnotherDirectionMatchSingleRays) {
   EXPECT_LE(expect_queue_matches_single_rays(bvh, rays, scratch, "directional sets with one turned ray"), 2u);
 }
 
+TEST(Bvh4Queue, StreamsOfOneDirectionMatchSingleRaysAtEveryLength) {
+  // A queue whose rays all leave in one direction but from scattered points
+  // (a directional light's shadow rays from later vertices: shuffled, so not
+  // coherent) goes as a stream whose leaves compute each triangle's share of
+  // the direction once per visit: as one masked set up to 64 rays, as lists
+  // past that. Then a few rays of each queue turned away from the light
+  // (into the surfaces they leave, where most are blocked), which must take
+  // the queue off that path.
+  Scene s = built_in_scene();
+  SceneBvh4 bvh(s);
+  QueueScratch scratch;
+  const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
+  std::vector<Ray> rays;
+  for (const Ray& p : camera_rays(s, 48, 36)) {
+    Hit h;
+    if (bvh.intersect(p, h)) rays.push_back({p.org + p.dir * (h.t * 0.999f), 0.0f, to_light, kInfinity});
+  }
+  std::mt19937 rng(11);
+  std::shuffle(rays.begin(), rays.end(), rng);
+  ASSERT_GE(rays.size(), 1000u);
+  size_t ties = 0;
+  for (size_t n : {size_t(1), size_t(7), lanes() + 1, size_t(64), size_t(65), size_t(300), rays.size()}) {
+    std::vector<Ray> q(rays.begin(), rays.begin() + n);
+    EXPECT_FALSE(in_coherent_runs(Queue(q).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
+    ties += expect_queue_matches_single_rays(bvh, q, scratch, "one direction, " + std::to_string(n) + " rays");
+    if (n < 2) continue;
+    for (size_t i = n / 2; i < n; i += 16) q[i].dir = -to_light;
+    ties += expect_queue_matches_single_rays(bvh, q, scratch, "some rays turned, " + std::to_string(n) + " rays");
+  }
+  EXPECT_LE(ties, 2u);
+}
+
 /// Pads `rays` with copies of its last ray to a whole number of sets, so that
 /// the next group of rays starts a set of its own.
 void pad_to_whole_sets(std::vector<Ray>& rays) {
