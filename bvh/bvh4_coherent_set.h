@@ -59,10 +59,6 @@ struct CoherentSet {
   vfloat4 org_near[3], org_far[3];      ///< the origin coordinates that bound the near and far distances
   vfloat4 slack_rdir[3], slack_org[3];  ///< the widening: (|b| slack_rdir + slack_org) for plane b
   float tmin_lo = 0.0f, tmax_hi = 0.0f;
-  /// Every traceable ray has the direction `dir` (a directional light's
-  /// shadow rays): leaves compute its share of each triangle's test once.
-  bool one_direction = false;
-  vfloat4 dir[3];
 };
 
 namespace set_detail {
@@ -73,19 +69,19 @@ namespace set_detail {
 /// rounded, times rdir, rounded), each at most 2^-24 of |b| |rdir| + |org| |rdir|.
 inline constexpr float kSlack = 1.0f / (1 << 20);
 
-/// Whether every traceable ray of the loaded set has the first one's
-/// direction, bit for bit; s.dir takes that direction.
-inline bool in_one_direction(CoherentSet& s) {
+/// Whether every traceable ray of a loaded set (s.active != 0) has the first
+/// one's direction, bit for bit (a directional light's shadow rays); `dir`
+/// takes that direction.
+inline bool in_one_direction(const CoherentSet& s, vfloat4 (&dir)[3]) {
   const RayPacket& first = s.packet[std::countr_zero(s.active) / kLanes];
   alignas(64) float d[3][kLanes];
   for (int a = 0; a < 3; ++a) first.dir[a].store_aligned(d[a]);
   const int lane = std::countr_zero(first.active);
-  for (int a = 0; a < 3; ++a) s.dir[a] = vfloat4(d[a][lane]);
+  for (int a = 0; a < 3; ++a) dir[a] = vfloat4(d[a][lane]);
   for (uint32_t j = 0; j < s.packets; ++j) {
     const RayPacket& p = s.packet[j];
-    vboolK same(true);
-    for (int a = 0; a < 3; ++a)
-      same = same & as_float_mask(xsimd::bitwise_cast<vintK>(p.dir[a]) == vintK(std::bit_cast<int32_t>(d[a][lane])));
+    const vboolK same =
+        same_bits(p.dir[0], d[0][lane]) & same_bits(p.dir[1], d[1][lane]) & same_bits(p.dir[2], d[2][lane]);
     if ((lane_mask(same) & p.active) != p.active) return false;
   }
   return true;
@@ -97,7 +93,6 @@ inline bool in_one_direction(CoherentSet& s) {
 inline bool load_set(const RayArrays& rays, size_t i0, size_t n, CoherentSet& s) {
   s.packets = static_cast<uint32_t>((n + kLanes - 1) / kLanes);
   s.active = 0;
-  s.one_direction = false;
   const vfloatK inf(INFINITY), ninf(-INFINITY);
   vfloatK rlo[3] = {inf, inf, inf}, rhi[3] = {ninf, ninf, ninf}, olo[3] = {inf, inf, inf}, ohi[3] = {ninf, ninf, ninf};
   vfloatK tlo = inf, thi = ninf;
@@ -131,7 +126,6 @@ inline bool load_set(const RayArrays& rays, size_t i0, size_t n, CoherentSet& s)
   }
   if (!shared) return false;
   if (s.active == 0) return true;
-  s.one_direction = in_one_direction(s);
   for (int a = 0; a < 3; ++a) {
     const float lo = reduce_min_k(rlo[a]), hi = reduce_max_k(rhi[a]);
     const float o_lo = reduce_min_k(olo[a]), o_hi = reduce_max_k(ohi[a]);
@@ -359,6 +353,8 @@ inline uint64_t bvh4_occluded_set(const Bvh4& bvh, const CoherentSet& s) {
   using namespace set_detail;
   uint64_t blocked = 0;
   if (bvh.empty() || s.active == 0) return 0;
+  vfloat4 dir[3];
+  const bool one_direction = in_one_direction(s, dir);
   SetEntry stack[kBvh4StackSize];
   SetEntry* sp = stack;
   *sp++ = {bvh.root, bvh4_ref::kEmptyRef, -INFINITY, 0, s.active};
@@ -368,17 +364,13 @@ inline uint64_t bvh4_occluded_set(const Bvh4& bvh, const CoherentSet& s) {
     if (e.mask == 0 || !descend_to_leaf(bvh, s, e, sp)) continue;
     const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
     const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
-    // The direction terms of the leaf's blocks, for the first packet that tests them.
-    BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
-    bool have_terms = false;
+    LeafDirectionTerms terms;
     for (uint32_t j = 0; j < s.packets; ++j) {
       const uint32_t lanes = lanes_in_leaf(bvh, e.parent, e.slot, s, j, e.mask);
       if (lanes == 0) continue;
-      if (s.one_direction && !have_terms && static_cast<uint32_t>(std::popcount(lanes)) > kLeafRaysAlone) {
-        for (uint32_t i = 0; i < n_blocks; ++i) terms[i].compute(blocks[i], s.dir);
-        have_terms = true;
-      }
-      blocked |= uint64_t(leaf_blocked(blocks, n_blocks, lanes, s.packet[j], have_terms ? terms : nullptr))
+      const bool by_terms = one_direction && static_cast<uint32_t>(std::popcount(lanes)) > kLeafRaysAlone;
+      blocked |= uint64_t(leaf_blocked(blocks, n_blocks, lanes, s.packet[j],
+                                       by_terms ? terms.get(blocks, n_blocks, dir) : nullptr))
                  << (j * kLanes);
     }
     if (blocked == s.active) break;

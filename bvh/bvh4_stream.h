@@ -12,7 +12,10 @@
 // under its ray's nearest hit at the time it starts. For any hit, a part of
 // at most 64 rays writes no lists: its rays keep their lanes and a node on
 // the stack carries a mask of the rays that enter it (occluded_masked_part).
-// Every ray gets the hit it gets alone, bit for bit: the triangle test does
+// An any-hit queue whose rays all have one direction (a directional light's
+// shadow rays) computes each leaf triangle's direction terms once per visit
+// for all its rays (QueueDirection). Every ray gets the hit it gets alone,
+// bit for bit: the triangle test does
 // the same operations per lane as the block test, and a leaf's triangles are
 // taken in the block test's order, each block's four under the nearest t from
 // before it, as the block test takes them. Only which of two different
@@ -275,8 +278,7 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
     const uint32_t room = list_room(count[k]);
     arena.reserve(top, size_t(kFields) * room);
     // A list's fields lie `room` words apart: two pointers and two strides
-    // address them all (an array of field pointers stayed on the stack at
-    // AVX2 and was reloaded for every field of every chunk).
+    // address them all.
     float* out = arena.field(top, room, ListField(0));
     in = arena.field(e, ListField(0));  // the arena may have moved
     uint32_t written = 0;
@@ -318,6 +320,17 @@ PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t
   for (int a = 0; a < 3; ++a) {
     r.org[a] = load_part_lanes(rays.org[a], i, rays.size);
     r.dir[a] = load_part_lanes(rays.dir[a], i, rays.size);
+  }
+  r.tmin = tmin;
+  return r;
+}
+/// Rays [i, i + K) of a part, all of direction `dir`.
+PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, const vfloatK (&dir)[3],
+                                                   vfloatK tmin) {
+  TriangleLanes r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = load_part_lanes(rays.org[a], i, rays.size);
+    r.dir[a] = dir[a];
   }
   r.tmin = tmin;
   return r;
@@ -371,39 +384,36 @@ inline void count_leaf(C& counters, const TriangleBlock4* blocks, uint32_t n_blo
       for (int l = 0; l < 4; ++l) counters.primitives_tested(blocks[b].prim[l] != kInvalidId ? rays : 0);
 }
 
-/// Whether every ray of a queue has one direction (a directional light's
-/// shadow rays), and which: then leaves compute each triangle's direction
-/// terms once per visit for all its rays, and read no directions.
+/// Whether every ray of a queue has one direction, bit for bit (a
+/// directional light's shadow rays), and which: then leaves compute each
+/// triangle's direction terms once per visit for all its rays, and take the
+/// direction as a broadcast instead of each ray's.
 struct QueueDirection {
-  bool one = false;
+  bool shared = false;
   vfloat4 dir4[3];
   vfloatK dir[3];
 };
 inline QueueDirection direction_of(const RayArrays& rays) {
   QueueDirection q;
   if (rays.size == 0) return q;
-  const uint32_t first[3] = {std::bit_cast<uint32_t>(rays.dir[0][0]), std::bit_cast<uint32_t>(rays.dir[1][0]),
-                             std::bit_cast<uint32_t>(rays.dir[2][0])};
   for (size_t i = 0; i < rays.size; i += kLanes) {
-    vboolK same(true);
-    for (int a = 0; a < 3; ++a)
-      same = same &
-             as_float_mask(xsimd::bitwise_cast<vuintK>(load_part_lanes(rays.dir[a], i, rays.size)) == vuintK(first[a]));
+    const vboolK same = same_bits(load_part_lanes(rays.dir[0], i, rays.size), rays.dir[0][0]) &
+                        same_bits(load_part_lanes(rays.dir[1], i, rays.size), rays.dir[1][0]) &
+                        same_bits(load_part_lanes(rays.dir[2], i, rays.size), rays.dir[2][0]);
     if (lane_mask(same) != lanes_below(kLanes)) return q;
   }
-  q.one = true;
+  q.shared = true;
   for (int a = 0; a < 3; ++a) q.dir4[a] = vfloat4(rays.dir[a][0]), q.dir[a] = vfloatK(rays.dir[a][0]);
   return q;
 }
 
 /// Each of a leaf's triangles against K rays (the rays in `live` not yet in
 /// the returned mask), in block order, until every live ray is blocked: the
-/// rays blocked. With one direction, the leaf's direction terms are computed
-/// (once, into `terms`) and used.
+/// rays blocked. With one direction, through the leaf's direction terms.
 template <class C>
 PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks, const TriangleLanes& r,
                                         uint32_t live, const vfloatK& tmax, const QueueDirection& qd,
-                                        BlockDirectionTerms* terms, bool& have_terms, C& counters) {
+                                        LeafDirectionTerms& leaf_terms, C& counters) {
   uint32_t hit = 0;
   auto each = [&](auto&& test) {
     for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
@@ -414,16 +424,13 @@ PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n
         if (test(b, l, lanes_of_mask(live & ~hit), h)) hit |= lane_mask(h.hit);
       }
   };
-  if (!qd.one) {
+  if (!qd.shared) {
     each([&](uint32_t b, int l, vboolK active, LaneHits<vfloatK>& h) {
       return triangle_lanes(blocks[b], l, r, active, tmax, h);
     });
     return hit;
   }
-  if (!have_terms) {
-    for (uint32_t b = 0; b < n_blocks; ++b) terms[b].compute(blocks[b], qd.dir4);
-    have_terms = true;
-  }
+  const BlockDirectionTerms* terms = leaf_terms.get(blocks, n_blocks, qd.dir4);
   each([&](uint32_t b, int l, vboolK active, LaneHits<vfloatK>& h) {
     return triangle_lanes(blocks[b], terms[b], l, r, active, tmax, h);
   });
@@ -507,8 +514,7 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
                      ListArena& arena, float* live_tmax, uint8_t* blocked, C& counters) {
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
   const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
-  BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
-  bool have_terms = false;
+  LeafDirectionTerms terms;
   const float* ids = arena.field(e, kId);
   const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
   for (uint32_t i = 0; i < e.count; i += kLanes) {
@@ -532,8 +538,8 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
     }
     const vfloatK tmin = kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f);
     const TriangleLanes r =
-        qd.one ? listed_triangle_lanes(rays, listed, qd.dir, tmin) : listed_triangle_lanes(rays, listed, tmin);
-    uint32_t hit = blocked_lanes(blocks, n_blocks, r, live, tmax, qd, terms, have_terms, counters);
+        qd.shared ? listed_triangle_lanes(rays, listed, qd.dir, tmin) : listed_triangle_lanes(rays, listed, tmin);
+    uint32_t hit = blocked_lanes(blocks, n_blocks, r, live, tmax, qd, terms, counters);
     if (hit == 0) continue;
     alignas(64) int32_t lane_id[kLanes];
     id.store_aligned(lane_id);
@@ -728,8 +734,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
     if (bvh4_ref::is_leaf(e.ref)) {
       const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
       const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
-      BlockDirectionTerms terms[bvh4_ref::kMaxLeafBlocks];
-      bool have_terms = false;
+      LeafDirectionTerms terms;
       for (uint32_t i = 0; i < rays.size; i += kLanes) {
         const uint32_t chunk = static_cast<uint32_t>(mask >> i) & lanes_below(kLanes);
         if (chunk == 0) continue;
@@ -746,10 +751,11 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
           }
           continue;
         }
+        const vfloatK tmin = kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f);
         const TriangleLanes r =
-            part_triangle_lanes(rays, i, kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f));
+            qd.shared ? part_triangle_lanes(rays, i, qd.dir, tmin) : part_triangle_lanes(rays, i, tmin);
         const vfloatK tmax = vfloatK::load_unaligned(live_tmax + i);
-        uint32_t hit = blocked_lanes(blocks, n_blocks, r, chunk, tmax, qd, terms, have_terms, counters);
+        uint32_t hit = blocked_lanes(blocks, n_blocks, r, chunk, tmax, qd, terms, counters);
         for (; hit; hit &= hit - 1) {
           const uint32_t r_id = i + std::countr_zero(hit);
           live_tmax[r_id] = -INFINITY;

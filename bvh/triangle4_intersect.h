@@ -74,10 +74,7 @@ PT_ALWAYS_INLINE uint32_t finish_block_hits(vfloat4 det, vfloat4 t_num, vfloat4 
 }
 
 /// The Moller-Trumbore numerators of a test in lanes of any width, and the
-/// lanes where the hit lies inside the triangle. `r` is any ray in lanes V
-/// (org[3], dir[3]): a block ray repeated over the triangles, or a packet of
-/// rays against one triangle repeated over the rays. The one Moller-Trumbore
-/// of the BVH4: blocks, block pairs and packets all call it.
+/// lanes where the hit lies inside the triangle (mt_numerators).
 template <class V>
 struct MtNumerators {
   V det, t_num, u_num, v_num;
@@ -99,7 +96,11 @@ PT_ALWAYS_INLINE MtDirectionTerms<V> mt_direction_terms(const D (&dir)[3], const
   d.det = e1[0] * d.px + e1[1] * d.py + e1[2] * d.pz;
   return d;
 }
-/// The rest of the test, given its direction terms.
+/// The numerators of a test given its direction terms. `r` is any ray in
+/// lanes V (org[3], dir[3]): a block ray repeated over the triangles, or a
+/// packet of rays against one triangle repeated over the rays. The one
+/// Moller-Trumbore of the BVH4: blocks, block pairs, packets and streams all
+/// call it.
 template <class V, class R>
 PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3],
                                                const MtDirectionTerms<V>& d, const R& r) {
@@ -117,6 +118,7 @@ PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3
   V u_abs = u_num ^ sign, v_abs = v_num ^ sign;
   return {det, t_num, u_num, v_num, (u_abs >= V(0.0f)) & (v_abs >= V(0.0f)) & (u_abs + v_abs <= (det ^ sign))};
 }
+/// The numerators of a test, its direction terms computed from r.dir.
 template <class V, class R>
 PT_ALWAYS_INLINE MtNumerators<V> mt_numerators(const V (&v0)[3], const V (&e1)[3], const V (&e2)[3], const R& r) {
   return mt_numerators(v0, e1, e2, mt_direction_terms(r.dir, e1, e2), r);
@@ -158,6 +160,24 @@ struct BlockDirectionTerms {
   }
 };
 static_assert(sizeof(BlockDirectionTerms) == 64);
+
+/// The direction terms of every block of a leaf, for rays of direction
+/// `dir`: computed when first asked for, by the first packet or chunk of
+/// rays that tests the leaf, and shared by the others.
+class LeafDirectionTerms {
+ public:
+  PT_ALWAYS_INLINE const BlockDirectionTerms* get(const TriangleBlock4* blocks, uint32_t n_blocks,
+                                                  const vfloat4 (&dir)[3]) {
+    if (!ready_)
+      for (uint32_t b = 0; b < n_blocks; ++b) blocks_[b].compute(blocks[b], dir);
+    ready_ = true;
+    return blocks_;
+  }
+
+ private:
+  BlockDirectionTerms blocks_[bvh4_ref::kMaxLeafBlocks];
+  bool ready_ = false;
+};
 
 /// Moller-Trumbore in lanes of any width (finish_lanes decides the hits).
 template <class V, class AnyFn>

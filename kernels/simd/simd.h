@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstddef>
+#include <bit>
 #include <cstdint>
 
 // GCC 12's AVX-512 intrinsic headers start some vectors from an undefined
@@ -226,6 +227,12 @@ inline uint32_t lane_mask(vboolK m) {
 template <class M>
 inline vboolK as_float_mask(M m) {
   return xsimd::bool_cast(vbooliK(static_cast<typename M::register_type>(m)));
+}
+
+/// The lanes of v that hold exactly the bits of x (so -0 is not +0, and a
+/// NaN matches only its own bits).
+inline vboolK same_bits(vfloatK v, float x) {
+  return as_float_mask(xsimd::bitwise_cast<vintK>(v) == vintK(std::bit_cast<int32_t>(x)));
 }
 
 /// A K-wide float mask as an int32 mask.

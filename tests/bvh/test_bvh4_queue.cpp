@@ -191,29 +191,80 @@ TEST(Bvh4Queue, DirectionalShadowQueuesInPixelOrderGoAsSetsAndMatchSingleRays) {
   EXPECT_LE(ties, 2u);
 }
 
-TEST(Bvh4Queue, DirectionalSetsWithOneRayOfAnotherDirectionMatchSingleRays) {
-  // A set whose rays all leave in one direction tests each leaf triangle's
-  // share of the direction once for all of them; one ray of each set
-  // (alternately the first and a later one) turned by about a degree, still
-  // coherent, must keep the set from it, or that ray's answers go wrong.
-  Scene s = built_in_scene();
-  SceneBvh4 bvh(s);
-  QueueScratch scratch;
-  const std::vector<Ray> pixels = camera_rays(s, 32, 24);
+/// A scene of the one-direction tests, and whether its camera sees it (the
+/// built-in scene) or probes from all around do (a tessellated sphere at the
+/// origin).
+struct OneDirectionScene {
+  Scene scene;
+  bool camera_view;
+};
+
+/// The built-in scene (a few leaves, spheres) and a tessellated sphere
+/// (20,480 triangles: many leaves, each with its own direction terms), which
+/// half of the rays leave through.
+std::vector<OneDirectionScene> one_direction_scenes() {
+  std::vector<OneDirectionScene> scenes;
+  scenes.push_back({built_in_scene(), true});
+  scenes.push_back({tessellated_sphere(5, {0, 0, 0}, 1.0f), false});
+  return scenes;
+}
+
+/// A directional light's shadow rays over `bvh`: from points just off the
+/// scene's surfaces (the hits of its camera view, or of probes from all
+/// around it), `per_point` rays each (jittered by 1e-4 around the point, so
+/// that runs of them are coherent). In the built-in scene, a closed box,
+/// they end at a quarter of the scene's extent, so that some get through.
+std::vector<Ray> directional_shadow_rays(const OneDirectionScene& c, const SceneBvh4& bvh, float3 to_light,
+                                         int per_point) {
+  std::vector<Ray> rays;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> jitter(-1e-4f, 1e-4f);
+  const float tmax = c.camera_view ? 0.25f * scene_extent(bvh.bvh()) : kInfinity;
+  auto add = [&](const Ray& probe) {
+    Hit h;
+    if (!bvh.intersect(probe, h)) return;
+    const float3 at = probe.org + probe.dir * (h.t * 0.999f);
+    for (int k = 0; k < per_point; ++k)
+      rays.push_back({at + float3{jitter(rng), jitter(rng), jitter(rng)}, 0.0f, to_light, tmax});
+  };
+  if (c.camera_view) {
+    for (const Ray& p : camera_rays(c.scene, 40, 30)) add(p);
+    return rays;
+  }
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  for (int i = 0; i < 1500; ++i) {
+    const float3 from = normalize(float3{unit(rng), unit(rng), unit(rng)}) * 3.0f;
+    add({from, 0.0f, normalize(float3{unit(rng), unit(rng), unit(rng)} * 0.3f - from), kInfinity});
+  }
+  return rays;
+}
+
+TEST(Bvh4Queue, DirectionalSetsMatchSingleRaysAlsoWithOneRayOfAnotherDirection) {
+  // A coherent set whose rays all leave in one direction tests each leaf
+  // triangle's share of the direction once for all of them. Then one ray of
+  // each set (alternately the first and a later one) turned by about a
+  // degree, still coherent, must keep the set from that path, or that ray's
+  // answers go wrong.
   const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
   const float3 turned = normalize(float3{0.32f, 1.0f, 0.2f});
-  std::vector<Ray> rays;
-  for (const Ray& p : pixels) {
-    Hit h;
-    if (!bvh.intersect(p, h)) continue;
-    const float3 at = p.org + p.dir * (h.t * 0.999f);
-    for (int k = 0; k < 16; ++k) rays.push_back({at, 0.0f, to_light, kInfinity});
+  for (const OneDirectionScene& c : one_direction_scenes()) {
+    SceneBvh4 bvh(c.scene);
+    QueueScratch scratch;
+    std::vector<Ray> rays = directional_shadow_rays(c, bvh, to_light, 16);
+    ASSERT_GE(rays.size(), 64 * lanes());
+    const float near = kCoherentSpread * scene_extent(bvh.bvh());
+    EXPECT_TRUE(in_coherent_runs(Queue(rays).rays(), near, lanes()));
+    size_t blocked = 0;
+    for (const Ray& r : rays) blocked += bvh.occluded(r);
+    EXPECT_GT(blocked, rays.size() / 10);  // both answers are exercised
+    EXPECT_LT(blocked, rays.size() - rays.size() / 10);
+    size_t ties = expect_queue_matches_single_rays(bvh, rays, scratch, "directional sets");
+    for (size_t set = 0; set * 64 < rays.size(); ++set)
+      rays[std::min(rays.size() - 1, set * 64 + (set % 2 ? 37 : 0))].dir = turned;
+    EXPECT_TRUE(in_coherent_runs(Queue(rays).rays(), near, lanes()));
+    ties += expect_queue_matches_single_rays(bvh, rays, scratch, "directional sets with one turned ray");
+    EXPECT_LE(ties, 2u);
   }
-  for (size_t set = 0; set * 64 < rays.size(); ++set)
-    rays[std::min(rays.size() - 1, set * 64 + (set % 2 ? 37 : 0))].dir = turned;
-  ASSERT_GE(rays.size(), 4 * lanes());
-  EXPECT_TRUE(in_coherent_runs(Queue(rays).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
-  EXPECT_LE(expect_queue_matches_single_rays(bvh, rays, scratch, "directional sets with one turned ray"), 2u);
 }
 
 TEST(Bvh4Queue, StreamsOfOneDirectionMatchSingleRaysAtEveryLength) {
@@ -221,31 +272,33 @@ TEST(Bvh4Queue, StreamsOfOneDirectionMatchSingleRaysAtEveryLength) {
   // (a directional light's shadow rays from later vertices: shuffled, so not
   // coherent) goes as a stream whose leaves compute each triangle's share of
   // the direction once per visit: as one masked set up to 64 rays, as lists
-  // past that. Then a few rays of each queue turned away from the light
-  // (into the surfaces they leave, where most are blocked), which must take
-  // the queue off that path.
-  Scene s = built_in_scene();
-  SceneBvh4 bvh(s);
-  QueueScratch scratch;
+  // past that, in parts of 4096. Then some rays of each queue turned away
+  // from the light (into the surfaces they leave, where most are blocked),
+  // or only its last ray (in the last part), which must take the queue off
+  // that path.
   const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
-  std::vector<Ray> rays;
-  for (const Ray& p : camera_rays(s, 48, 36)) {
-    Hit h;
-    if (bvh.intersect(p, h)) rays.push_back({p.org + p.dir * (h.t * 0.999f), 0.0f, to_light, kInfinity});
+  for (const OneDirectionScene& c : one_direction_scenes()) {
+    SceneBvh4 bvh(c.scene);
+    QueueScratch scratch;
+    std::vector<Ray> rays = directional_shadow_rays(c, bvh, to_light, 8);
+    std::mt19937 rng(11);
+    std::shuffle(rays.begin(), rays.end(), rng);
+    ASSERT_GE(rays.size(), 4096u + 500u);
+    size_t ties = 0;
+    for (size_t n : {size_t(1), size_t(7), lanes() + 1, size_t(64), size_t(65), size_t(300), rays.size()}) {
+      std::vector<Ray> q(rays.begin(), rays.begin() + n);
+      EXPECT_FALSE(in_coherent_runs(Queue(q).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
+      const std::string size = std::to_string(n) + " rays";
+      ties += expect_queue_matches_single_rays(bvh, q, scratch, "one direction, " + size);
+      if (n < 2) continue;
+      std::vector<Ray> last_turned = q;
+      last_turned.back().dir = -to_light;
+      ties += expect_queue_matches_single_rays(bvh, last_turned, scratch, "the last ray turned, " + size);
+      for (size_t i = n / 2; i < n; i += 16) q[i].dir = -to_light;
+      ties += expect_queue_matches_single_rays(bvh, q, scratch, "some rays turned, " + size);
+    }
+    EXPECT_LE(ties, 4u);
   }
-  std::mt19937 rng(11);
-  std::shuffle(rays.begin(), rays.end(), rng);
-  ASSERT_GE(rays.size(), 1000u);
-  size_t ties = 0;
-  for (size_t n : {size_t(1), size_t(7), lanes() + 1, size_t(64), size_t(65), size_t(300), rays.size()}) {
-    std::vector<Ray> q(rays.begin(), rays.begin() + n);
-    EXPECT_FALSE(in_coherent_runs(Queue(q).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
-    ties += expect_queue_matches_single_rays(bvh, q, scratch, "one direction, " + std::to_string(n) + " rays");
-    if (n < 2) continue;
-    for (size_t i = n / 2; i < n; i += 16) q[i].dir = -to_light;
-    ties += expect_queue_matches_single_rays(bvh, q, scratch, "some rays turned, " + std::to_string(n) + " rays");
-  }
-  EXPECT_LE(ties, 2u);
 }
 
 /// Pads `rays` with copies of its last ray to a whole number of sets, so that
