@@ -409,32 +409,33 @@ inline QueueDirection direction_of(const RayArrays& rays) {
 
 /// Each of a leaf's triangles against K rays (the rays in `live` not yet in
 /// the returned mask), in block order, until every live ray is blocked: the
-/// rays blocked. With one direction, through the leaf's direction terms.
+/// rays blocked. kShared: through the blocks' direction `terms`.
+template <bool kShared, class C>
+PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks,
+                                        const BlockDirectionTerms* terms, const TriangleLanes& r, uint32_t live,
+                                        const vfloatK& tmax, C& counters) {
+  uint32_t hit = 0;
+  for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
+    for (int l = 0; l < 4 && hit != live; ++l) {
+      if (blocks[b].prim[l] == kInvalidId) continue;
+      if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(live & ~hit));
+      LaneHits<vfloatK> h;
+      const vboolK active = lanes_of_mask(live & ~hit);
+      bool any;
+      if constexpr (kShared) any = triangle_lanes(blocks[b], terms[b], l, r, active, tmax, h);
+      else any = triangle_lanes(blocks[b], l, r, active, tmax, h);
+      if (any) hit |= lane_mask(h.hit);
+    }
+  return hit;
+}
+/// blocked_lanes for a queue of one direction or not.
 template <class C>
 PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks, const TriangleLanes& r,
                                         uint32_t live, const vfloatK& tmax, const QueueDirection& qd,
                                         LeafDirectionTerms& leaf_terms, C& counters) {
-  uint32_t hit = 0;
-  auto each = [&](auto&& test) {
-    for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
-      for (int l = 0; l < 4 && hit != live; ++l) {
-        if (blocks[b].prim[l] == kInvalidId) continue;
-        if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(live & ~hit));
-        LaneHits<vfloatK> h;
-        if (test(b, l, lanes_of_mask(live & ~hit), h)) hit |= lane_mask(h.hit);
-      }
-  };
-  if (!qd.shared) {
-    each([&](uint32_t b, int l, vboolK active, LaneHits<vfloatK>& h) {
-      return triangle_lanes(blocks[b], l, r, active, tmax, h);
-    });
-    return hit;
-  }
-  const BlockDirectionTerms* terms = leaf_terms.get(blocks, n_blocks, qd.dir4);
-  each([&](uint32_t b, int l, vboolK active, LaneHits<vfloatK>& h) {
-    return triangle_lanes(blocks[b], terms[b], l, r, active, tmax, h);
-  });
-  return hit;
+  if (qd.shared)
+    return blocked_lanes<true>(blocks, n_blocks, leaf_terms.get(blocks, n_blocks, qd.dir4), r, live, tmax, counters);
+  return blocked_lanes<false>(blocks, n_blocks, nullptr, r, live, tmax, counters);
 }
 
 /// Closest hits of the listed rays in a leaf, K rays at a time, every triangle
@@ -509,7 +510,7 @@ inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& r
 /// Any hit of the listed rays that are not yet blocked in a leaf, K rays at a
 /// time (a chunk of at most kLeafRaysAlone live rays: ray by ray); blocked
 /// rays get live tmax = -inf and blocked[i] = 1.
-template <bool kTmin, class C>
+template <bool kTmin, bool kShared, class C>
 inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const QueueDirection& qd,
                      ListArena& arena, float* live_tmax, uint8_t* blocked, C& counters) {
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
@@ -537,9 +538,14 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
       continue;
     }
     const vfloatK tmin = kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f);
-    const TriangleLanes r =
-        qd.shared ? listed_triangle_lanes(rays, listed, qd.dir, tmin) : listed_triangle_lanes(rays, listed, tmin);
-    uint32_t hit = blocked_lanes(blocks, n_blocks, r, live, tmax, qd, terms, counters);
+    uint32_t hit;
+    if constexpr (kShared) {
+      const TriangleLanes r = listed_triangle_lanes(rays, listed, qd.dir, tmin);
+      hit = blocked_lanes<true>(blocks, n_blocks, terms.get(blocks, n_blocks, qd.dir4), r, live, tmax, counters);
+    } else {
+      const TriangleLanes r = listed_triangle_lanes(rays, listed, tmin);
+      hit = blocked_lanes<false>(blocks, n_blocks, nullptr, r, live, tmax, counters);
+    }
     if (hit == 0) continue;
     alignas(64) int32_t lane_id[kLanes];
     id.store_aligned(lane_id);
@@ -668,7 +674,8 @@ inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, const QueueDir
         if (live_tmax[ids[i]] != -INFINITY) s.alone.push_back({ids[i], e.ref});
       if (s.alone.size() >= kWalkBatch) run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
     } else if (bvh4_ref::is_leaf(e.ref)) {
-      leaf_any<kTmin>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
+      if (qd.shared) leaf_any<kTmin, true>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
+      else leaf_any<kTmin, false>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
     } else {
       split_node<false, kTmin>(bvh, e, arena, live_tmax, sp, counters);
     }
