@@ -395,10 +395,13 @@ inline constexpr std::array<uint32_t, 256> kCompress8 = [] {
 #endif
 
 /// v's 32-bit lanes set in `mask` moved to the front, in order; the other
-/// lanes hold unspecified values of v.
+/// lanes hold unspecified values of v. AVX-512 compresses with v as the
+/// merge source, which ties the result to v's own register: with zeroing,
+/// GCC may give successive compresses one destination register, and AMD's
+/// cores then chain them through it (a compaction's stores waited on it).
 inline vintK compress(vintK v, uint32_t mask) {
 #if XSIMD_WITH_AVX512F
-  return _mm512_maskz_compress_epi32(static_cast<__mmask16>(mask), v);
+  return _mm512_mask_compress_epi32(v, static_cast<__mmask16>(mask), v);
 #elif XSIMD_WITH_AVX2
   const __m256i packed = _mm256_set1_epi32(static_cast<int32_t>(kCompress8[mask & 0xFFu]));
   const __m256i order = _mm256_and_si256(_mm256_srlv_epi32(packed, _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28)),
