@@ -14,7 +14,9 @@
 // the stack carries a mask of the rays that enter it (occluded_masked_part).
 // An any-hit queue whose rays all have one direction (a directional light's
 // shadow rays) computes each leaf triangle's direction terms once per visit
-// for all its rays (QueueDirection). Every ray gets the hit it gets alone,
+// for all its rays, and tests nodes with the direction's slab constants and
+// near and far planes, its lists carrying no reciprocal directions
+// (QueueDirection). Every ray gets the hit it gets alone,
 // bit for bit: the triangle test does
 // the same operations per lane as the block test, and a leaf's triangles are
 // taken in the block test's order, each block's four under the nearest t from
@@ -26,6 +28,7 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <cmath>
 #include <cstdint>
 
 #include "bvh4_interleaved.h"
@@ -155,10 +158,50 @@ PT_ALWAYS_INLINE SlabLanes slab_lanes(const RayArrays& rays, size_t i) {
   return r;
 }
 
+/// Whether every ray of a queue has one direction, bit for bit (a
+/// directional light's shadow rays), and which: then leaves compute each
+/// triangle's direction terms once per visit for all its rays, and take the
+/// direction as a broadcast instead of each ray's; node tests take the
+/// direction's slab constants as broadcasts and each axis's near and far
+/// plane (as NodeRay does), and lists carry no reciprocal directions.
+struct QueueDirection {
+  bool shared = false;
+  float dir[3] = {0.0f, 0.0f, 0.0f};
+  float rdir[3] = {0.0f, 0.0f, 0.0f};                ///< NodeRay's reciprocal direction
+  uint32_t near[3] = {0, 2, 4}, far[3] = {1, 3, 5};  ///< the bounds rows of each axis's near and far planes
+  /// The direction repeated over the lanes of V.
+  template <class V>
+  PT_ALWAYS_INLINE void lanes(V (&d)[3]) const {
+    for (int a = 0; a < 3; ++a) d[a] = V(dir[a]);
+  }
+};
+inline QueueDirection direction_of(const RayArrays& rays) {
+  QueueDirection q;
+  if (rays.size == 0) return q;
+  for (size_t i = 0; i < rays.size; i += kLanes) {
+    const vboolK same = same_bits(load_part_lanes(rays.dir[0], i, rays.size), rays.dir[0][0]) &
+                        same_bits(load_part_lanes(rays.dir[1], i, rays.size), rays.dir[1][0]) &
+                        same_bits(load_part_lanes(rays.dir[2], i, rays.size), rays.dir[2][0]);
+    if (lane_mask(same) != lanes_below(kLanes)) return q;
+  }
+  q.shared = true;
+  for (int a = 0; a < 3; ++a) {
+    const float d = rays.dir[a][0];
+    q.dir[a] = d;
+    const float safe = std::fabs(d) < NodeRay::kMinDir ? std::copysign(NodeRay::kMinDir, d) : d;
+    const float inv = 1.0f / safe;  // slab_lanes' and NodeRay's
+    q.rdir[a] = inv;
+    q.near[a] = inv >= 0.0f ? 2 * a : 2 * a + 1;
+    q.far[a] = inv >= 0.0f ? 2 * a + 1 : 2 * a;
+  }
+  return q;
+}
+
 /// Lists the traceable rays of the part, in queue order, with their slab
-/// constants (computed as NodeRay computes them) and, with kTmin, their tmin;
+/// constants (computed as NodeRay computes them; kShared, a queue of one
+/// direction: without the reciprocal directions) and, with kTmin, their tmin;
 /// returns the root's entry.
-template <bool kTmin>
+template <bool kTmin, bool kShared = false>
 inline ListEntry root_list(const Bvh4& bvh, const RayArrays& rays, ListArena& arena) {
   constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
   const uint32_t room = list_room(rays.size);
@@ -173,7 +216,7 @@ inline ListEntry root_list(const Bvh4& bvh, const RayArrays& rays, ListArena& ar
     if (m == 0) continue;
     store_compressed(reinterpret_cast<int32_t*>(out[kId] + count), m, vintK(static_cast<int32_t>(i)) + lane_index());
     for (int a = 0; a < 3; ++a) {
-      store_compressed(out[kRdirX + a] + count, m, r.rdir[a]);
+      if constexpr (!kShared) store_compressed(out[kRdirX + a] + count, m, r.rdir[a]);
       store_compressed(out[kOrgRdirX + a] + count, m, r.org_rdir[a]);
     }
     if constexpr (kTmin) store_compressed(out[kTminField] + count, m, r.tmin);
@@ -199,6 +242,19 @@ PT_ALWAYS_INLINE vboolK child_test(const Bvh4Node& node, int c, const NodeLanes&
   tnear = tn;
   return tn <= tf;
 }
+/// Which of K rays of one direction (`qd`) enter child c: each axis's near
+/// and far plane taken as the single ray's node test takes them
+/// (intersect_node), so the two planes' distances need no min and max.
+PT_ALWAYS_INLINE vboolK child_test(const Bvh4Node& node, int c, const NodeLanes& r, const QueueDirection& qd) {
+  auto plane = [&](uint32_t row, int a) {
+    return fused_mul_sub_k(vfloatK(node.bounds[row][c]), r.rdir[a], r.org_rdir[a]);
+  };
+  const vfloatK tn =
+      xsimd::max(xsimd::max(plane(qd.near[0], 0), plane(qd.near[1], 1)), xsimd::max(plane(qd.near[2], 2), r.tmin));
+  const vfloatK tf =
+      xsimd::min(xsimd::min(plane(qd.far[0], 0), plane(qd.far[1], 1)), xsimd::min(plane(qd.far[2], 2), r.tmax));
+  return tn <= tf;
+}
 
 /// Rays a queue is traced in at most at once: longer queues go in parts of
 /// this many (the lists of a part stay in the first levels of the cache).
@@ -221,10 +277,12 @@ inline constexpr uint32_t kOrderSampleChunks = kLanes == 16 ? kMaxStreamRays / k
 /// at the end of e's block, except for a child that every ray enters, which
 /// takes e's list as it is. `live_tmax` is each ray's current tmax (its
 /// nearest hit so far, or -inf once blocked). kTmin: the list carries tmin
-/// (else every ray's tmin is 0).
-template <bool kOrdered, bool kTmin, class C>
-inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax, ListEntry*& sp,
-                       C& counters) {
+/// (else every ray's tmin is 0). kShared: the rays have the one direction of
+/// `qd`, and the lists carry no reciprocal directions (root_list: their
+/// fields' words stay unwritten).
+template <bool kOrdered, bool kTmin, bool kShared, class C>
+PT_ALWAYS_INLINE void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax,
+                                 const QueueDirection& qd, ListEntry*& sp, C& counters) {
   constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
   assert(e.count <= kMaxStreamRays);  // `masks` holds one part's chunks
   const Bvh4Node& node = bvh.node(e.ref);
@@ -245,14 +303,16 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
     const ListedIds id = listed_ids(p + kId * in_room, valid);
     NodeLanes r;
     for (int a = 0; a < 3; ++a) {
-      r.rdir[a] = vfloatK::load_unaligned(p + (kRdirX + a) * in_room);
+      r.rdir[a] = kShared ? vfloatK(qd.rdir[a]) : vfloatK::load_unaligned(p + (kRdirX + a) * in_room);
       r.org_rdir[a] = vfloatK::load_unaligned(p + (kOrgRdirX + a) * in_room);
     }
     r.tmin = kTmin ? vfloatK::load_unaligned(p + kTminField * in_room) : vfloatK(0.0f);
     r.tmax = listed_lanes(live_tmax, id);
     for (int k = 0; k < 4; ++k) {
       vfloatK tnear;
-      const uint32_t m = (child_ok >> k & 1) ? lane_mask(child_test(node, k, r, tnear)) & valid : 0;
+      const uint32_t m = (child_ok >> k & 1)
+                             ? lane_mask(kShared ? child_test(node, k, r, qd) : child_test(node, k, r, tnear)) & valid
+                             : 0;
       masks[j][k] = static_cast<uint16_t>(m);
       count[k] += std::popcount(m);
       if constexpr (kDist) dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
@@ -288,7 +348,7 @@ inline void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, co
       const float* src = in + j * kLanes;
       float* dst = out + written;
       for (uint32_t f = 0; f < kFields; ++f, src += in_room, dst += room)
-        store_compressed(dst, m, vfloatK::load_unaligned(src));
+        if (!kShared || f < kRdirX || f > kRdirZ) store_compressed(dst, m, vfloatK::load_unaligned(src));
       written += std::popcount(m);
       assert(written + kLanes <= room);  // the next K-wide store stays in this list's room
     }
@@ -384,29 +444,6 @@ inline void count_leaf(C& counters, const TriangleBlock4* blocks, uint32_t n_blo
       for (int l = 0; l < 4; ++l) counters.primitives_tested(blocks[b].prim[l] != kInvalidId ? rays : 0);
 }
 
-/// Whether every ray of a queue has one direction, bit for bit (a
-/// directional light's shadow rays), and which: then leaves compute each
-/// triangle's direction terms once per visit for all its rays, and take the
-/// direction as a broadcast instead of each ray's.
-struct QueueDirection {
-  bool shared = false;
-  vfloat4 dir4[3];
-  vfloatK dir[3];
-};
-inline QueueDirection direction_of(const RayArrays& rays) {
-  QueueDirection q;
-  if (rays.size == 0) return q;
-  for (size_t i = 0; i < rays.size; i += kLanes) {
-    const vboolK same = same_bits(load_part_lanes(rays.dir[0], i, rays.size), rays.dir[0][0]) &
-                        same_bits(load_part_lanes(rays.dir[1], i, rays.size), rays.dir[1][0]) &
-                        same_bits(load_part_lanes(rays.dir[2], i, rays.size), rays.dir[2][0]);
-    if (lane_mask(same) != lanes_below(kLanes)) return q;
-  }
-  q.shared = true;
-  for (int a = 0; a < 3; ++a) q.dir4[a] = vfloat4(rays.dir[a][0]), q.dir[a] = vfloatK(rays.dir[a][0]);
-  return q;
-}
-
 /// Each of a leaf's triangles against K rays (the rays in `live` not yet in
 /// the returned mask), in block order, until every live ray is blocked: the
 /// rays blocked. kShared: through the blocks' direction `terms`.
@@ -433,8 +470,11 @@ template <class C>
 PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks, const TriangleLanes& r,
                                         uint32_t live, const vfloatK& tmax, const QueueDirection& qd,
                                         LeafDirectionTerms& leaf_terms, C& counters) {
-  if (qd.shared)
-    return blocked_lanes<true>(blocks, n_blocks, leaf_terms.get(blocks, n_blocks, qd.dir4), r, live, tmax, counters);
+  if (qd.shared) {
+    vfloat4 dir[3];
+    qd.lanes(dir);
+    return blocked_lanes<true>(blocks, n_blocks, leaf_terms.get(blocks, n_blocks, dir), r, live, tmax, counters);
+  }
   return blocked_lanes<false>(blocks, n_blocks, nullptr, r, live, tmax, counters);
 }
 
@@ -516,6 +556,9 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
   const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
   LeafDirectionTerms terms;
+  vfloat4 dir4[3];
+  vfloatK dir[3];
+  if constexpr (kShared) qd.lanes(dir4), qd.lanes(dir);
   const float* ids = arena.field(e, kId);
   const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
   for (uint32_t i = 0; i < e.count; i += kLanes) {
@@ -540,8 +583,8 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
     const vfloatK tmin = kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f);
     uint32_t hit;
     if constexpr (kShared) {
-      const TriangleLanes r = listed_triangle_lanes(rays, listed, qd.dir, tmin);
-      hit = blocked_lanes<true>(blocks, n_blocks, terms.get(blocks, n_blocks, qd.dir4), r, live, tmax, counters);
+      const TriangleLanes r = listed_triangle_lanes(rays, listed, dir, tmin);
+      hit = blocked_lanes<true>(blocks, n_blocks, terms.get(blocks, n_blocks, dir4), r, live, tmax, counters);
     } else {
       const TriangleLanes r = listed_triangle_lanes(rays, listed, tmin);
       hit = blocked_lanes<false>(blocks, n_blocks, nullptr, r, live, tmax, counters);
@@ -652,20 +695,21 @@ inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArra
     } else if (bvh4_ref::is_leaf(e.ref)) {
       leaf_closest<kTmin>(bvh, e, rays, hits, arena, counters);
     } else {
-      split_node<true, kTmin>(bvh, e, arena, hits.t, sp, counters);
+      split_node<true, kTmin, false>(bvh, e, arena, hits.t, QueueDirection{}, sp, counters);
     }
   }
   run_closest_walks(bvh, rays, hits, s, counters);
 }
 
 /// Occlusion of rays [0, rays.size) (at most kMaxStreamRays): blocked rays get
-/// live_tmax = -inf and blocked = 1.
-template <bool kTmin, class C>
+/// live_tmax = -inf and blocked = 1. kShared: rays of the one direction of
+/// `qd` (qd.shared).
+template <bool kTmin, bool kShared, class C>
 inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd, uint8_t* blocked,
                           float* live_tmax, ListArena& arena, QueueScratch& s, C& counters) {
   ListEntry stack[kBvh4StackSize];
   ListEntry* sp = stack;
-  *sp++ = root_list<kTmin>(bvh, rays, arena);
+  *sp++ = root_list<kTmin, kShared>(bvh, rays, arena);
   while (sp != stack) {
     const ListEntry e = *--sp;
     if (e.count < kStreamMinRays) {
@@ -674,10 +718,9 @@ inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, const QueueDir
         if (live_tmax[ids[i]] != -INFINITY) s.alone.push_back({ids[i], e.ref});
       if (s.alone.size() >= kWalkBatch) run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
     } else if (bvh4_ref::is_leaf(e.ref)) {
-      if (qd.shared) leaf_any<kTmin, true>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
-      else leaf_any<kTmin, false>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
+      leaf_any<kTmin, kShared>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
     } else {
-      split_node<false, kTmin>(bvh, e, arena, live_tmax, sp, counters);
+      split_node<false, kTmin, kShared>(bvh, e, arena, live_tmax, qd, sp, counters);
     }
   }
   run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
@@ -700,6 +743,8 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
   static_assert(kMaskedRays % kLanes == 0 && kMaskedRays <= 64);
   constexpr uint32_t kRoom = kMaskedRays + kMaxLanes;
   alignas(64) float rdir[3][kRoom], org_rdir[3][kRoom], tmin_of[kTmin ? kRoom : 1];
+  vfloatK dir[3];  // the one direction (qd.shared)
+  qd.lanes(dir);
   uint64_t set = 0;  // the rays traced: traceable, not blocked before
   for (size_t i = 0; i < rays.size; i += kLanes) {
     const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
@@ -760,7 +805,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
         }
         const vfloatK tmin = kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f);
         const TriangleLanes r =
-            qd.shared ? part_triangle_lanes(rays, i, qd.dir, tmin) : part_triangle_lanes(rays, i, tmin);
+            qd.shared ? part_triangle_lanes(rays, i, dir, tmin) : part_triangle_lanes(rays, i, tmin);
         const vfloatK tmax = vfloatK::load_unaligned(live_tmax + i);
         uint32_t hit = blocked_lanes(blocks, n_blocks, r, chunk, tmax, qd, terms, counters);
         for (; hit; hit &= hit - 1) {
@@ -775,22 +820,32 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
     const Bvh4Node& node = bvh.node(e.ref);
     counters.nodes_tested(std::popcount(mask));
     uint64_t child_mask[4] = {0, 0, 0, 0};
-    for (uint32_t i = 0; i < rays.size; i += kLanes) {
-      const uint32_t chunk = static_cast<uint32_t>(mask >> i) & lanes_below(kLanes);
-      if (chunk == 0) continue;
-      NodeLanes r;
-      for (int a = 0; a < 3; ++a) {
-        r.rdir[a] = vfloatK::load_aligned(rdir[a] + i);
-        r.org_rdir[a] = vfloatK::load_aligned(org_rdir[a] + i);
+    auto test_chunks = [&]<bool kShared>() __attribute__((always_inline)) {
+      for (uint32_t i = 0; i < rays.size; i += kLanes) {
+        const uint32_t chunk = static_cast<uint32_t>(mask >> i) & lanes_below(kLanes);
+        if (chunk == 0) continue;
+        NodeLanes r;
+        for (int a = 0; a < 3; ++a) {
+          r.rdir[a] = kShared ? vfloatK(qd.rdir[a]) : vfloatK::load_aligned(rdir[a] + i);
+          r.org_rdir[a] = vfloatK::load_aligned(org_rdir[a] + i);
+        }
+        r.tmin = kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f);
+        r.tmax = vfloatK::load_unaligned(live_tmax + i);
+        for (int k = 0; k < 4; ++k) {
+          if (node.child[k] == bvh4_ref::kEmptyRef) continue;
+          uint32_t m;
+          if constexpr (kShared) {
+            m = lane_mask(child_test(node, k, r, qd));
+          } else {
+            vfloatK tnear;
+            m = lane_mask(child_test(node, k, r, tnear));
+          }
+          child_mask[k] |= uint64_t(m & chunk) << i;
+        }
       }
-      r.tmin = kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f);
-      r.tmax = vfloatK::load_unaligned(live_tmax + i);
-      for (int k = 0; k < 4; ++k) {
-        if (node.child[k] == bvh4_ref::kEmptyRef) continue;
-        vfloatK tnear;
-        child_mask[k] |= uint64_t(lane_mask(child_test(node, k, r, tnear)) & chunk) << i;
-      }
-    }
+    };
+    if (qd.shared) test_chunks.template operator()<true>();
+    else test_chunks.template operator()<false>();
     for (int k = 0; k < 4; ++k)  // node order, the last child on top (as split_node<false>)
       if (child_mask[k]) {
         prefetch_ref(bvh, node.child[k]);
@@ -849,9 +904,12 @@ inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t
       if (has_tmin(part)) occluded_masked_part<true>(bvh, part, qd, blocked + b, live_tmax + b, s, counters);
       else occluded_masked_part<false>(bvh, part, qd, blocked + b, live_tmax + b, s, counters);
     } else if (has_tmin(part)) {
-      occluded_part<true>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+      if (qd.shared) occluded_part<true, true>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+      else occluded_part<true, false>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+    } else if (qd.shared) {
+      occluded_part<false, true>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
     } else {
-      occluded_part<false>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+      occluded_part<false, false>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
     }
   }
 }

@@ -275,16 +275,30 @@ TEST(Bvh4Queue, StreamsOfOneDirectionMatchSingleRaysAtEveryLength) {
   // past that, in parts of 4096. Then some rays of each queue turned away
   // from the light (into the surfaces they leave, where most are blocked),
   // or only its last ray (in the last part), which must take the queue off
-  // that path.
+  // that path. Such a queue's node tests take each axis's near and far plane
+  // from the direction's signs: other directions too, with negative
+  // components and with +0 and -0 ones (clamped to huge reciprocals of
+  // either sign), at three lengths.
   const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
+  const float3 other_lights[] = {normalize(float3{-0.5f, 1.0f, -0.3f}), normalize(float3{0.4f, -1.0f, -0.6f}),
+                                 float3{0.0f, 1.0f, 0.0f}, float3{-0.0f, -1.0f, -0.0f}, float3{-0.0f, 0.0f, 1.0f}};
   for (const OneDirectionScene& c : one_direction_scenes()) {
     SceneBvh4 bvh(c.scene);
     QueueScratch scratch;
+    size_t ties = 0;
+    for (const float3& light : other_lights) {
+      std::vector<Ray> rays = directional_shadow_rays(c, bvh, light, 4);
+      std::mt19937 rng(12);
+      std::shuffle(rays.begin(), rays.end(), rng);
+      for (size_t n : {size_t(64), size_t(300), rays.size()}) {
+        const std::vector<Ray> q(rays.begin(), rays.begin() + std::min(n, rays.size()));
+        ties += expect_queue_matches_single_rays(bvh, q, scratch, "another direction, " + std::to_string(n) + " rays");
+      }
+    }
     std::vector<Ray> rays = directional_shadow_rays(c, bvh, to_light, 8);
     std::mt19937 rng(11);
     std::shuffle(rays.begin(), rays.end(), rng);
     ASSERT_GE(rays.size(), 4096u + 500u);
-    size_t ties = 0;
     for (size_t n : {size_t(1), size_t(7), lanes() + 1, size_t(64), size_t(65), size_t(300), rays.size()}) {
       std::vector<Ray> q(rays.begin(), rays.begin() + n);
       EXPECT_FALSE(in_coherent_runs(Queue(q).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
