@@ -54,6 +54,8 @@ inline constexpr uint32_t kLeafRaysAlone = kLanes / 2;
 
 /// The fields of a list, each an array of `room` 32-bit words: the ray's index
 /// in the queue, then the constants of its slab test (NodeRay's) and its tmin.
+/// A queue of one direction leaves the kRdir fields' words unwritten (their
+/// room stays reserved, so that every list has one layout).
 enum ListField : uint32_t { kId, kRdirX, kRdirY, kRdirZ, kOrgRdirX, kOrgRdirY, kOrgRdirZ, kTminField, kListFields };
 
 /// Room for a list of n rays written K at a time: n rounded up to whole
@@ -283,6 +285,7 @@ inline constexpr uint32_t kOrderSampleChunks = kLanes == 16 ? kMaxStreamRays / k
 template <bool kOrdered, bool kTmin, bool kShared, class C>
 PT_ALWAYS_INLINE void split_node(const Bvh4& bvh, const ListEntry& e, ListArena& arena, const float* live_tmax,
                                  const QueueDirection& qd, ListEntry*& sp, C& counters) {
+  static_assert(!(kOrdered && kShared), "queues of one direction are any-hit queues (no entry distances)");
   constexpr uint32_t kFields = kTmin ? kListFields : kListFields - 1;
   assert(e.count <= kMaxStreamRays);  // `masks` holds one part's chunks
   const Bvh4Node& node = bvh.node(e.ref);
@@ -744,7 +747,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
   constexpr uint32_t kRoom = kMaskedRays + kMaxLanes;
   alignas(64) float rdir[3][kRoom], org_rdir[3][kRoom], tmin_of[kTmin ? kRoom : 1];
   vfloatK dir[3];  // the one direction (qd.shared)
-  qd.lanes(dir);
+  if (qd.shared) qd.lanes(dir);
   uint64_t set = 0;  // the rays traced: traceable, not blocked before
   for (size_t i = 0; i < rays.size; i += kLanes) {
     const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
@@ -752,7 +755,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
     const vboolK open = load_part_lanes(live_tmax, i, rays.size) != vfloatK(-INFINITY);
     set |= uint64_t(lane_mask(r.traceable & open) & valid) << i;
     for (int a = 0; a < 3; ++a) {
-      r.rdir[a].store_aligned(rdir[a] + i);
+      if (!qd.shared) r.rdir[a].store_aligned(rdir[a] + i);  // else the node tests broadcast qd.rdir
       r.org_rdir[a].store_aligned(org_rdir[a] + i);
     }
     if constexpr (kTmin) r.tmin.store_aligned(tmin_of + i);

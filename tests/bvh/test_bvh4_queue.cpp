@@ -278,7 +278,8 @@ TEST(Bvh4Queue, StreamsOfOneDirectionMatchSingleRaysAtEveryLength) {
   // that path. Such a queue's node tests take each axis's near and far plane
   // from the direction's signs: other directions too, with negative
   // components and with +0 and -0 ones (clamped to huge reciprocals of
-  // either sign), at three lengths.
+  // either sign), at three lengths, then with tmin > 0 on half the rays
+  // (lists that carry tmin past their unwritten reciprocal directions).
   const float3 to_light = normalize(float3{0.3f, 1.0f, 0.2f});
   const float3 other_lights[] = {normalize(float3{-0.5f, 1.0f, -0.3f}), normalize(float3{0.4f, -1.0f, -0.6f}),
                                  float3{0.0f, 1.0f, 0.0f}, float3{-0.0f, -1.0f, -0.0f}, float3{-0.0f, 0.0f, 1.0f}};
@@ -291,8 +292,12 @@ TEST(Bvh4Queue, StreamsOfOneDirectionMatchSingleRaysAtEveryLength) {
       std::mt19937 rng(12);
       std::shuffle(rays.begin(), rays.end(), rng);
       for (size_t n : {size_t(64), size_t(300), rays.size()}) {
-        const std::vector<Ray> q(rays.begin(), rays.begin() + std::min(n, rays.size()));
-        ties += expect_queue_matches_single_rays(bvh, q, scratch, "another direction, " + std::to_string(n) + " rays");
+        std::vector<Ray> q(rays.begin(), rays.begin() + std::min(n, rays.size()));
+        EXPECT_FALSE(in_coherent_runs(Queue(q).rays(), kCoherentSpread * scene_extent(bvh.bvh()), lanes()));
+        const std::string size = std::to_string(n) + " rays";
+        ties += expect_queue_matches_single_rays(bvh, q, scratch, "another direction, " + size);
+        for (size_t i = 0; i < q.size(); i += 2) q[i].tmin = 0.01f;  // lists and sets that carry tmin
+        ties += expect_queue_matches_single_rays(bvh, q, scratch, "another direction with tmin, " + size);
       }
     }
     std::vector<Ray> rays = directional_shadow_rays(c, bvh, to_light, 8);
