@@ -377,17 +377,8 @@ struct TriangleLanes {
   vfloatK org[3], dir[3], tmin;
 };
 
-/// Rays [i, i + K) of a part (lanes past its end repeat its last ray).
-PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, vfloatK tmin) {
-  TriangleLanes r;
-  for (int a = 0; a < 3; ++a) {
-    r.org[a] = load_part_lanes(rays.org[a], i, rays.size);
-    r.dir[a] = load_part_lanes(rays.dir[a], i, rays.size);
-  }
-  r.tmin = tmin;
-  return r;
-}
-/// Rays [i, i + K) of a part, all of direction `dir`.
+/// Rays [i, i + K) of a part, all of direction `dir` (lanes past its end
+/// repeat its last ray).
 PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, const vfloatK (&dir)[3],
                                                    vfloatK tmin) {
   TriangleLanes r;
@@ -398,17 +389,13 @@ PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t
   r.tmin = tmin;
   return r;
 }
-/// The listed rays' (listed_lanes).
-PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin) {
-  TriangleLanes r;
-  for (int a = 0; a < 3; ++a) {
-    r.org[a] = listed_lanes(rays.org[a], id);
-    r.dir[a] = listed_lanes(rays.dir[a], id);
-  }
-  r.tmin = tmin;
-  return r;
+/// Rays [i, i + K) of a part, each of its own direction.
+PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, vfloatK tmin) {
+  const vfloatK dir[3] = {load_part_lanes(rays.dir[0], i, rays.size), load_part_lanes(rays.dir[1], i, rays.size),
+                          load_part_lanes(rays.dir[2], i, rays.size)};
+  return part_triangle_lanes(rays, i, dir, tmin);
 }
-/// The listed rays', all of direction `dir`.
+/// The listed rays' (listed_lanes), all of direction `dir`.
 PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id,
                                                      const vfloatK (&dir)[3], vfloatK tmin) {
   TriangleLanes r;
@@ -418,6 +405,11 @@ PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, cons
   }
   r.tmin = tmin;
   return r;
+}
+/// The listed rays', each of its own direction.
+PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin) {
+  const vfloatK dir[3] = {listed_lanes(rays.dir[0], id), listed_lanes(rays.dir[1], id), listed_lanes(rays.dir[2], id)};
+  return listed_triangle_lanes(rays, id, dir, tmin);
 }
 
 /// Triangle `lane` of block b against K rays (the block test's operations,

@@ -10,8 +10,8 @@
 #pragma once
 
 #include <array>
-#include <cstddef>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 
 // GCC 12's AVX-512 intrinsic headers start some vectors from an undefined
