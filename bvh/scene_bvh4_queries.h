@@ -205,6 +205,12 @@ template <class C>
   }
 }
 
+/// Whether a queue has fewer rays than a stream tests across lanes at its
+/// root: the stream would hand them all to single-ray walks there, so they go
+/// ray by ray from the start, without the stream's setup (a scene's last
+/// bounces leave queues of a few rays).
+inline bool too_short_for_stream(const RayArrays& rays) { return rays.size < stream_detail::kStreamMinRays; }
+
 /// Whether the queue comes in coherent runs of K rays, which sets trace
 /// faster than a stream does (queue_coherence.h).
 inline bool in_coherent_runs(const SceneBvh4& s, const RayArrays& rays) {
@@ -257,13 +263,14 @@ inline void store_packet_hits(std::span<const SceneBvh4::SphereShape> spheres, R
 
 /// Closest hits of a whole queue: hits as intersect() gives them, ray by ray.
 /// Traced as coherent sets when the queue comes in coherent runs, as a
-/// stream otherwise, and ray by ray in the watertight form and, for counted
-/// queries, when the queue comes in coherent runs (sets count nothing).
+/// stream otherwise, and ray by ray in the watertight form, when the queue is
+/// too short for a stream and, for counted queries, when the queue comes in
+/// coherent runs (sets count nothing).
 template <class C>
 inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
                             C& c) {
   const bool coherent = s.bvh().form == TriangleForm::kMollerTrumbore && in_coherent_runs(s, rays);
-  if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && coherent)) {
+  if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && coherent) || too_short_for_stream(rays)) {
     for (size_t i = 0; i < rays.size; ++i) {  // sets count nothing: counted queries go ray by ray
       Hit h;
       intersect(s, rays.ray(i), h, c);
@@ -311,10 +318,11 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
   }
 }
 
-/// blocked[i] = occluded(rays.ray(i)) for every ray of a queue.
+/// blocked[i] = occluded(rays.ray(i)) for every ray of a queue: ray by ray
+/// in the watertight form and when the queue is too short for a stream.
 template <class C>
 inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, C& c) {
-  if (s.bvh().form != TriangleForm::kMollerTrumbore) {
+  if (s.bvh().form != TriangleForm::kMollerTrumbore || too_short_for_stream(rays)) {
     for (size_t i = 0; i < rays.size; ++i) blocked[i] = occluded(s, rays.ray(i), c);
     return;
   }
