@@ -271,7 +271,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
                             C& c) {
   const bool coherent = s.bvh().form == TriangleForm::kMollerTrumbore && in_coherent_runs(s, rays);
   if (s.bvh().form != TriangleForm::kMollerTrumbore || (C::kEnabled && coherent) || too_short_for_stream(rays)) {
-    for (size_t i = 0; i < rays.size; ++i) {  // sets count nothing: counted queries go ray by ray
+    for (size_t i = 0; i < rays.size; ++i) {
       Hit h;
       intersect(s, rays.ray(i), h, c);
       hits.store(i, h);
