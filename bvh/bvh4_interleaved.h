@@ -18,25 +18,28 @@
 namespace pt {
 
 /// Trees larger than this (nodes and leaf blocks) have their walks load the
-/// next node or leaf ahead (prefetch_target); smaller ones sit in the L2 and
-/// L3 caches, where the prefetches cost more than the latency they hide
-/// (docs/bvh_and_benchmarks.md: teapot, bunny and CBbunny's captured queues
-/// 0.89-0.93x with them, CBbunny x16 and x64 1.07-1.14x).
-inline constexpr size_t kWalkPrefetchBytes = size_t(8) << 20;
+/// next node or leaf ahead (prefetch_target): trees past the L2 cache of
+/// AMD's Zen 4 and 5 (1 MiB a core), whose nodes and leaves come from L3.
+/// Smaller ones sit in L1 and L2, where the prefetches cost more than the
+/// latency they hide (docs/bvh_and_benchmarks.md: teapot's captured queues
+/// 0.89-0.93x with them; CBbunny's bounce rays, 1.3 MB of tree, 0.93-0.97x of
+/// the time without them on Zen 4).
+inline constexpr size_t kWalkPrefetchBytes = size_t(1) << 20;
 
 /// Whether walks of `bvh` prefetch what they need next.
 inline bool walks_prefetch(const Bvh4& bvh) {
   return bvh.nodes.size() * sizeof(Bvh4Node) + bvh.blocks.size() * sizeof(TriangleBlock4) > kWalkPrefetchBytes;
 }
 
-/// Starts loading a node (both lines) or a leaf's first block, if `on`.
+/// Starts loading a node (both lines) or a whole leaf (every line of its
+/// blocks: a walk tests them all unless one blocks it), if `on`.
 PT_ALWAYS_INLINE void prefetch_target(const Bvh4& bvh, uint32_t ref, bool on) {
   if (!on) return;
   if (bvh4_ref::is_leaf(ref)) {
     const char* p = reinterpret_cast<const char*>(bvh.leaf_blocks(ref));
-    prefetch_l1(p);
-    prefetch_l1(p + 64);
-    prefetch_l1(p + 128);
+    const char* last = p + bvh4_ref::leaf_block_count(ref) * sizeof(TriangleBlock4) - 1;
+    for (; p <= last; p += 64) prefetch_l1(p);
+    prefetch_l1(last);  // the line the blocks end in, when they start inside a line
   } else {
     const char* p = reinterpret_cast<const char*>(&bvh.node(ref));
     prefetch_l1(p);

@@ -575,7 +575,7 @@ TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
 }
 
 TEST(Bvh4Queue, InterleavedWalksThatPrefetchMatchSingleRayWalks) {
-  // 327,680 triangles: a tree past kWalkPrefetchBytes, whose walks load the
+  // 327,680 triangles: a tree past kWalkPrefetchBytes (1 MiB), whose walks load the
   // next node or leaf ahead.
   expect_interleaved_walks_match_single_rays(tessellated_sphere(7, {0, 0, 0}, 1.0f), 200, true);
 }
