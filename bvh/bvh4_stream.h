@@ -89,7 +89,7 @@ class ListArena {
   const uint32_t* ids(const ListEntry& e) const { return words_.data() + e.offset; }
 
  private:
-  std::vector<uint32_t>& words_;
+  LineAlignedArray<uint32_t>& words_;
 };
 
 /// K indices of a list; lanes outside `valid` (past the list's end) read index
