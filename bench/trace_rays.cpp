@@ -16,6 +16,9 @@
 // "method":"embree_high_packet16" and so on.
 // The kernels run at the level --isa (or PT_ISA) names, default the widest
 // this CPU runs.
+// --count then prints the work per ray of one more, untimed pass of the same
+// method: {"method":"queue_counts","nodes_per_ray":...,"triangles_per_ray":...}
+// (ray-node and ray-triangle tests: the counters bench_trace reports).
 // --hits OUT writes float32 t, uint32 primitive per ray (the last pass; a
 // blocked ray of --occluded: t = 0, primitive 0; an unblocked one: t = tmax,
 // 0xFFFFFFFF).
@@ -151,6 +154,33 @@ Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q, s
   return count(s, hits, q.blocked, setup.occluded);
 }
 
+/// One untimed pass of the method with counters: its line of nodes and
+/// triangles tested per ray.
+void report_counts(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q, std::vector<Hit>& hits,
+                   const Setup& setup) {
+  QueueScratch scratch;
+  TraversalCounters c;
+  for (size_t b = 0; b < rays.size(); b += setup.queue) {
+    const size_t e = std::min(rays.size(), b + setup.queue);
+    if (setup.single) {
+      for (size_t i = b; i < e; ++i) {
+        if (setup.occluded) q.blocked[i] = bvh.occluded(rays[i], c);
+        else bvh.intersect(rays[i], hits[i], c);
+      }
+    } else if (setup.occluded) {
+      std::fill(q.blocked.begin() + b, q.blocked.begin() + e, 0);
+      bvh.occluded(q.rays(b, e), q.blocked.data() + b, scratch, c);
+    } else {
+      bvh.intersect(q.rays(b, e), q.hits(b), scratch, c);
+    }
+  }
+  const double n = double(std::max<size_t>(rays.size(), 1));
+  std::printf("{\"isa\":\"%s\",\"method\":\"%s_counts\",\"nodes_per_ray\":%.4f,\"triangles_per_ray\":%.4f}\n",
+              std::string(isa_name(active_isa())).c_str(), setup.single ? "single" : "queue", double(c.nodes) / n,
+              double(c.primitives) / n);
+  std::fflush(stdout);
+}
+
 /// Times `pass` (a warm-up, then the median of `reps`) and prints its line.
 template <class PassFn>
 void time_and_report(int threads, const std::string& method, int reps, size_t rays, size_t triangles, double build_ms,
@@ -232,6 +262,8 @@ int main(int argc, char** argv) {
                  "come from waves of 8192 paths)")
       ->check(CLI::Range(1, 1 << 24));
   app.add_option("--isa", isa, "Instruction set: auto, sse4.2, avx2, avx512 or neon (also PT_ISA)");
+  bool counts_wanted = false;
+  app.add_flag("--count", counts_wanted, "Then print nodes and triangles tested per ray of one untimed pass");
   bool embree = false;
   app.add_flag("--embree", embree,
                "Then time every Embree method (single rays, packets, streams; high and default builds) on the same "
@@ -257,6 +289,7 @@ int main(int argc, char** argv) {
       for (size_t i = 0; i < rays.size(); ++i)
         hits[i] = queues.blocked[i] ? Hit{0.0f, 0.0f, 0.0f, 0} : Hit{rays[i].tmax, 0.0f, 0.0f, kInvalidId};
     if (!hits_path.empty()) write_hit_file(hits_path, hits);
+    if (counts_wanted) report_counts(bvh, rays, queues, hits, setup);
     if (embree) {
 #ifdef PT_HAVE_EMBREE
       time_embree(scene, rays, setup, counts, reps);

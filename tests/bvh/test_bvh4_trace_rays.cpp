@@ -96,6 +96,31 @@ TEST(TraceRays, EveryMethodFindsTheSameHits) {
   for (const auto& [method, hits] : lines) EXPECT_EQ(hits, "2") << method << " in " << r.out;
 }
 
+TEST(TraceRays, CountsTheWorkOfEachRay) {
+  std::string dir = ::testing::TempDir();
+  // Two triangles, each its own leaf under the root; four rays: one enters the
+  // near leaf and stops there, one starts past it and enters the far one, one
+  // misses both boxes, one stops before either.
+  write<float>(dir + "tris3.bin", {0, 0, 1, 1, 0, 1, 0, 1, 1, 0, 0, 3, 1, 0, 3, 0, 1, 3});
+  write<float>(dir + "rays3.bin", {0.2f, 0.2f, 0, 0, 0, 0, 1, 1e30f, 0.2f, 0.2f, 2, 0, 0, 0, 0.5f, 1e30f,
+                                   5.0f, 5.0f, 0, 0, 0, 0, 1, 7.0f,  0.2f, 0.2f, 0, 0, 0, 0, 1,    0.5f});
+  for (const char* query : {"", "--occluded"}) {
+    std::vector<std::string> args = {dir + "tris3.bin", dir + "rays3.bin", "--threads", "1", "--single", "--count"};
+    if (*query) args.push_back(query);
+    pt::test::ProcessResult r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // Every ray tests the root; two rays test one triangle each.
+    EXPECT_NE(r.out.find("\"method\":\"single_counts\",\"nodes_per_ray\":1.0000,\"triangles_per_ray\":0.5000}"),
+              std::string::npos)
+        << query << ": " << r.out;
+    args.erase(args.begin() + 4);  // the queue tracer
+    r = run(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"method\":\"queue_counts\",\"nodes_per_ray\":1.0000,"), std::string::npos)
+        << query << ": " << r.out;
+  }
+}
+
 TEST(TraceRays, RejectsTruncatedFiles) {
   std::string dir = ::testing::TempDir();
   write<float>(dir + "bad_tris.bin", {0, 0, 1, 1, 0});  // not a multiple of 9 floats
