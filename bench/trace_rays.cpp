@@ -16,9 +16,11 @@
 // "method":"embree_high_packet16" and so on.
 // The kernels run at the level --isa (or PT_ISA) names, default the widest
 // this CPU runs.
-// --count then prints the work per ray of one more, untimed pass of the same
-// method: {"method":"queue_counts","nodes_per_ray":...,"triangles_per_ray":...}
-// (ray-node and ray-triangle tests: the counters bench_trace reports).
+// --count then prints the work per ray of one more, untimed pass:
+// {"isa":"avx2","method":"queue_counts","nodes_per_ray":...,"triangles_per_ray":...}
+// (or "single_counts"; ray-node and ray-triangle tests, the counters
+// bench_trace reports). Coherent sets count nothing, so a coherent queue is
+// counted as the stream traces it (closest hits: ray by ray).
 // --hits OUT writes float32 t, uint32 primitive per ray (the last pass; a
 // blocked ray of --occluded: t = 0, primitive 0; an unblocked one: t = tmax,
 // 0xFFFFFFFF).

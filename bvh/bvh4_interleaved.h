@@ -36,10 +36,10 @@ inline bool walks_prefetch(const Bvh4& bvh) {
 PT_ALWAYS_INLINE void prefetch_target(const Bvh4& bvh, uint32_t ref, bool on) {
   if (!on) return;
   if (bvh4_ref::is_leaf(ref)) {
-    const char* p = reinterpret_cast<const char*>(bvh.leaf_blocks(ref));
-    const char* last = p + bvh4_ref::leaf_block_count(ref) * sizeof(TriangleBlock4) - 1;
-    for (; p <= last; p += 64) prefetch_l1(p);
-    prefetch_l1(last);  // the line the blocks end in, when they start inside a line
+    const uintptr_t first = reinterpret_cast<uintptr_t>(bvh.leaf_blocks(ref));
+    const uintptr_t last = first + bvh4_ref::leaf_block_count(ref) * sizeof(TriangleBlock4) - 1;
+    for (uintptr_t line = first & ~uintptr_t(63); line <= last; line += 64)
+      prefetch_l1(reinterpret_cast<const char*>(line));
   } else {
     const char* p = reinterpret_cast<const char*>(&bvh.node(ref));
     prefetch_l1(p);
