@@ -108,25 +108,42 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
         -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake
   programs=(test_isa test_sampling test_geometry test_loader test_bvh4_build test_bvh4_traversal test_bvh4_robustness
             test_bvh4_batch test_bvh4_queue test_engines test_light_transport test_engine_contract)
+  rm -rf build-aarch64/qemu
   mkdir -p build-aarch64/qemu
   cmake --build build-aarch64 --target "${programs[@]}"
+  # The programs run in GoogleTest shards (GTEST_TOTAL_SHARDS), the longest
+  # programs in more of them and first, so that the cores stay busy to the end
+  # (test_light_transport alone takes about 9 minutes under qemu).
+  declare -A shards=([test_light_transport]=6 [test_sampling]=4 [test_engines]=4 [test_engine_contract]=2
+                     [test_bvh4_queue]=2)
+  jobs=()
+  for p in test_light_transport test_sampling test_engines; do
+    for ((i = 0; i < ${shards[$p]}; ++i)); do jobs+=("$p $i ${shards[$p]}"); done
+  done
+  for p in "${programs[@]}"; do
+    case $p in test_light_transport | test_sampling | test_engines) continue ;; esac
+    n=${shards[$p]:-1}
+    for ((i = 0; i < n; ++i)); do jobs+=("$p $i $n"); done
+  done
   echo "run_tests: aarch64 (neon) tests under qemu-aarch64: ${programs[*]}"
-  printf '%s\n' "${programs[@]}" | xargs -P "$(nproc)" -I{} sh -c \
-    'dir=$(dirname "$(find build-aarch64/tests -name {} -type f -executable | head -1)");
-     timeout 1200 qemu-aarch64 "$dir/{}" --gtest_brief=1 > build-aarch64/qemu/{}.log 2>&1; echo $? > build-aarch64/qemu/{}.status'
+  printf '%s\n' "${jobs[@]}" | xargs -P "$(nproc)" -L 1 sh -c \
+    'dir=$(dirname "$(find build-aarch64/tests -name "$0" -type f -executable | head -1)");
+     GTEST_TOTAL_SHARDS=$2 GTEST_SHARD_INDEX=$1 timeout 1200 qemu-aarch64 "$dir/$0" --gtest_brief=1 \
+       > "build-aarch64/qemu/$0.$1.log" 2>&1; echo $? > "build-aarch64/qemu/$0.$1.status"'
   passed=0 failed_n=0 skipped=0
   for p in "${programs[@]}"; do
-    log=build-aarch64/qemu/$p.log
-    n=$(grep -oP '\[  PASSED  \] \K[0-9]+' "$log" || echo 0)
-    # --gtest_brief prints one '[  FAILED  ] Suite.Test (N ms)' line per failure and no failure total
-    f=$(grep -cP '^\[  FAILED  \] \S+ \([0-9]+ ms\)$' "$log" || true)
-    s=$(grep -oP '\[  SKIPPED \] \K[0-9]+(?= tests?,)' "$log" || echo 0)
-    passed=$((passed + n)) failed_n=$((failed_n + f)) skipped=$((skipped + s))
-    if [ "$(cat build-aarch64/qemu/$p.status)" != 0 ]; then
-      failed=1
-      echo "run_tests: aarch64 $p FAILED:"
-      cat "$log"
-    fi
+    for log in build-aarch64/qemu/$p.*.log; do
+      n=$(grep -oP '\[  PASSED  \] \K[0-9]+' "$log" || echo 0)
+      # --gtest_brief prints one '[  FAILED  ] Suite.Test (N ms)' line per failure and no failure total
+      f=$(grep -cP '^\[  FAILED  \] \S+ \([0-9]+ ms\)$' "$log" || true)
+      s=$(grep -oP '\[  SKIPPED \] \K[0-9]+(?= tests?,)' "$log" || echo 0)
+      passed=$((passed + n)) failed_n=$((failed_n + f)) skipped=$((skipped + s))
+      if [ "$(cat "${log%.log}.status")" != 0 ]; then
+        failed=1
+        echo "run_tests: aarch64 $p FAILED ($log):"
+        cat "$log"
+      fi
+    done
   done
   summary+=("aarch64 neon (qemu, ${#programs[@]} test programs): $((passed + failed_n + skipped)) tests, $passed passed, $failed_n failed, $skipped skipped")
   echo "run_tests: aarch64 build and tests took $(( $(date +%s) - start )) s"
