@@ -106,8 +106,9 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   start=$(date +%s)
   cmake -S . -B build-aarch64 -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF \
         -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake
-  programs=(test_isa test_sampling test_geometry test_loader test_bvh4_build test_bvh4_traversal test_bvh4_robustness
-            test_bvh4_batch test_bvh4_queue test_engines test_light_transport test_engine_contract)
+  # The longest under qemu first (see the shards below).
+  programs=(test_engines test_light_transport test_sampling test_isa test_geometry test_loader test_bvh4_build
+            test_bvh4_traversal test_bvh4_robustness test_bvh4_batch test_bvh4_queue test_engine_contract)
   rm -rf build-aarch64/qemu
   mkdir -p build-aarch64/qemu
   cmake --build build-aarch64 --target "${programs[@]}"
@@ -117,11 +118,7 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
   declare -A shards=([test_light_transport]=2 [test_sampling]=2 [test_engines]=4 [test_engine_contract]=2
                      [test_bvh4_queue]=2)
   jobs=()
-  for p in test_engines test_light_transport test_sampling; do
-    for ((i = 0; i < ${shards[$p]}; ++i)); do jobs+=("$p $i ${shards[$p]}"); done
-  done
   for p in "${programs[@]}"; do
-    case $p in test_light_transport | test_sampling | test_engines) continue ;; esac
     n=${shards[$p]:-1}
     for ((i = 0; i < n; ++i)); do jobs+=("$p $i $n"); done
   done
