@@ -138,7 +138,7 @@ if [ "$host" = x86_64 ] && [ "${PT_SKIP_AARCH64:-0}" != 1 ]; then
       n=$(grep -oP '\[  PASSED  \] \K[0-9]+' "$log" || echo 0)
       # --gtest_brief prints one '[  FAILED  ] Suite.Test (N ms)' line per failure and no failure total
       f=$(grep -cP '^\[  FAILED  \] \S+ \([0-9]+ ms\)$' "$log" || true)
-      s=$(grep -oP '\[  SKIPPED \] \K[0-9]+(?= tests?,)' "$log" || echo 0)
+      s=$(grep -oP '\[  SKIPPED \] \K[0-9]+(?= tests?\.)' "$log" || echo 0)
       passed=$((passed + n)) failed_n=$((failed_n + f)) skipped=$((skipped + s))
       if [ "$(cat "${log%.log}.status")" != 0 ]; then
         failed=1
