@@ -23,7 +23,10 @@ shift || true
 case "$command" in
   trace)
     build bench_trace trace_rays
-    repeat=(--benchmark_repetitions=5 --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
+    # Repetitions interleaved in random order, so that a neighbour's load on a shared machine,
+    # which comes and goes, falls on this BVH4's runs and on Embree's alike.
+    repeat=(--benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
+            --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
     for arg in "$@"; do [ "$arg" = "--quick" ] && repeat=(--benchmark_min_time=0.02); done
     ./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench.json --benchmark_out_format=json
     $tables trace out/bench.json | tee out/bench_table.md ;;
