@@ -47,6 +47,7 @@ def rates(entries):
     found = {}
     for e in entries:
         if e.get("error_occurred"):
+            print(f"ab.py: {e['name']}: {e.get('error_message', 'error')}", file=sys.stderr)
             continue
         name = e["name"].removesuffix("/manual_time").removesuffix("/real_time")
         if "rays_per_s" in e:
@@ -73,6 +74,8 @@ def bench_main(args):
                 samples[name][side].append(value)
     with open(f"{out}.json", "w") as f:
         json.dump(raw, f)
+    if not any(sa and sb for sa, sb in samples.values()):
+        sys.exit(f"ab.py: no benchmark matching {flt!r} ran in both builds (raw runs: {out}.json)")
     print(f"{'benchmark':64} {'A':>9} {'B':>9} {'B/A':>6} {'range':>13}  nodes A/B   tris A/B")
     for name in sorted(samples):
         sa, sb = samples[name]

@@ -1,0 +1,23 @@
+// The size of this CPU's caches, for the choices that depend on what they
+// hold (whether a tree's walks prefetch: bvh/bvh4_interleaved.h).
+#pragma once
+
+#include <cstddef>
+
+namespace pt {
+
+/// The L2 cache of one core, in bytes, as the C library reports it (glibc
+/// reads it from CPUID on x86-64: 1 MiB on AMD's Zen 4 and 5, 2 MiB on
+/// Intel's Sapphire and Emerald Rapids), or kDefaultL2CacheBytes where it
+/// reports none (on aarch64, glibc often does not). Read once.
+std::size_t l2_cache_bytes();
+
+inline constexpr std::size_t kDefaultL2CacheBytes = std::size_t(1) << 20;
+
+/// `reported` (a C library's answer, 0 or negative for none) as an L2 size:
+/// the fallback where none is reported.
+constexpr std::size_t l2_cache_bytes_from(long reported) {
+  return reported > 0 ? std::size_t(reported) : kDefaultL2CacheBytes;
+}
+
+}  // namespace pt
