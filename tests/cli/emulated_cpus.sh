@@ -38,7 +38,10 @@ for pair in Nehalem-v1:sse4.2 max:avx2; do
     echo "FAIL: $cpu's image differs from the native $expected run"
     status=1
   fi
-  if qemu-x86_64 -cpu "$cpu" "$test_isa" --gtest_brief=1 > "$out/$cpu.tests" 2>&1 &&
+  # The cache sizes the emulated CPU's CPUID reports are qemu's, not the host's that sysfs
+  # lists (max: 512 KiB of L2 on a 2 MiB host): that test holds on real CPUs only.
+  if qemu-x86_64 -cpu "$cpu" "$test_isa" --gtest_brief=1 --gtest_filter='-CacheSize.L2IsWhatTheKernelListsOrTheDefault' \
+       > "$out/$cpu.tests" 2>&1 &&
      qemu-x86_64 -cpu "$cpu" "$test_sampling" --gtest_brief=1 \
        --gtest_filter='SimdPrimitives.*:RandomNumbers.SimdLanes*:Warps.Simd*' >> "$out/$cpu.tests" 2>&1; then
     echo "ok: $cpu passes the level detection and SIMD primitive tests at $expected"

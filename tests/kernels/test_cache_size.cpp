@@ -37,6 +37,8 @@ TEST(CacheSize, AReportOfNoneFallsBackToTheDefault) {
   EXPECT_EQ(kDefaultL2CacheBytes, 1048576u);
 }
 
+// On a real CPU (under qemu-user, CPUID is the emulated CPU's and sysfs the
+// host's: tests/cli/emulated_cpus.sh leaves this test out).
 TEST(CacheSize, L2IsWhatTheKernelListsOrTheDefault) {
   const std::size_t bytes = l2_cache_bytes();
   EXPECT_EQ(l2_cache_bytes(), bytes);  // read once
