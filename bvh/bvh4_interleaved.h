@@ -18,19 +18,14 @@
 
 namespace pt {
 
-/// Trees larger than the L2 cache of one core (nodes and leaf blocks) have
-/// their walks load the next node or leaf ahead (prefetch_target): their
-/// nodes and leaves come from L3. Smaller ones sit in L1 and L2, where the
-/// prefetches cost more than the latency they hide (docs/bvh_and_benchmarks.md:
-/// on Zen 4, with 1 MiB of L2, teapot's captured queues 0.89-0.93x with them
-/// and CBbunny's bounce rays, 1.3 MB of tree, 0.93-0.97x of the time without
-/// them; on Emerald Rapids, with 2 MiB, CBbunny's and bunny's queues, 1.3 and
-/// 1.5 MB, 1.01-1.12x faster without them than with a bound of 1 MiB).
-inline size_t walk_prefetch_bytes() { return l2_cache_bytes(); }
-
-/// Whether walks of `bvh` prefetch what they need next.
+/// Whether walks of `bvh` prefetch what they need next: trees larger than the
+/// L2 cache of one core (nodes and leaf blocks) have their walks load the next node or leaf ahead (prefetch_target):
+/// their nodes and leaves come from L3. Smaller ones sit in L1 and L2, where the prefetches cost more than the latency
+/// they hide (docs/bvh_and_benchmarks.md: on Zen 4, with 1 MiB of L2, teapot's captured queues 0.89-0.93x with them and
+/// CBbunny's bounce rays, 1.3 MB of tree, 0.93-0.97x of the time without them; on Emerald Rapids, with 2 MiB, CBbunny's
+/// and bunny's queues, 1.3 and 1.5 MB, 1.01-1.12x faster without them than with a bound of 1 MiB).
 inline bool walks_prefetch(const Bvh4& bvh) {
-  return bvh.nodes.size() * sizeof(Bvh4Node) + bvh.blocks.size() * sizeof(TriangleBlock4) > walk_prefetch_bytes();
+  return bvh.nodes.size() * sizeof(Bvh4Node) + bvh.blocks.size() * sizeof(TriangleBlock4) > l2_cache_bytes();
 }
 
 /// Starts loading a node (both lines) or a whole leaf (every line of its

@@ -570,12 +570,12 @@ void expect_interleaved_walks_match_single_rays(const Scene& sphere, size_t ray_
 }
 
 TEST(Bvh4Queue, InterleavedWalksBelowANodeMatchSingleRayWalks) {
-  // 5,120 triangles, a tree the L2 cache holds (240 KB, under walk_prefetch_bytes()): no prefetches.
+  // 5,120 triangles, a tree the L2 cache holds (240 KB, under l2_cache_bytes()): no prefetches.
   expect_interleaved_walks_match_single_rays(tessellated_sphere(4, {0, 0, 0}, 1.0f), 500, false);
 }
 
 TEST(Bvh4Queue, InterleavedWalksThatPrefetchMatchSingleRayWalks) {
-  // 327,680 triangles: a tree past walk_prefetch_bytes() (15 MB), whose walks load the
+  // 327,680 triangles: a tree past l2_cache_bytes() (15 MB), whose walks load the
   // next node or leaf ahead.
   expect_interleaved_walks_match_single_rays(tessellated_sphere(7, {0, 0, 0}, 1.0f), 200, true);
 }
