@@ -45,7 +45,8 @@ case "$command" in
     for level in "${levels[@]}"; do
       echo "bench.sh levels: $level"
       PT_ISA=$level ./build/bench/bench_trace --benchmark_filter="^(trace|build)/($scenes)/" \
-        --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true --benchmark_min_time=0.3 \
+        --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
+        --benchmark_report_aggregates_only=true --benchmark_min_time=0.3 \
         --benchmark_out="out/levels/trace_$level.json" --benchmark_out_format=json > /dev/null
     done
     for ((r = 0; r < reps; ++r)); do  # renders interleaved across levels
