@@ -28,9 +28,12 @@
 
 #include "support/engines_under_test.h"
 #include "support/film_checks.h"
+#include "support/form_factors.h"
 #include "support/scene_builders.h"
 
-namespace pt {
+// Its own namespace: its file-local names would clash with another file's of the
+// program, which is compiled as one unity file (tests/CMakeLists.txt).
+namespace pt::closed_form_lighting_test {
 namespace {
 
 const float3 kRho{0.4f, 0.6f, 0.8f};
@@ -52,21 +55,7 @@ constexpr bool hits_the_light(const Estimator& est) {
   return est.direct == DirectLighting::kHemisphere || est.direct == DirectLighting::kCosine;
 }
 
-/// Integral of cos over the rectangle [0, x] x [0, z] at height h above a
-/// point (a corner above it), signed by the quadrant of (x, z).
-double corner_integral(double x, double z, double h) {
-  double a = std::fabs(x) / h, b = std::fabs(z) / h, sa = std::sqrt(1 + a * a), sb = std::sqrt(1 + b * b);
-  double value = 0.5 * (a / sa * std::atan(b / sa) + b / sb * std::atan(a / sb));
-  return std::copysign(1.0, x) * std::copysign(1.0, z) * value;
-}
-
-/// Integral of cos (projected solid angle) of the horizontal rectangle
-/// [x0, x1] x [z0, z1] at height h above the point (px, py, pz), facing it.
-double projected_solid_angle(double x0, double x1, double z0, double z1, double h, double px, double pz) {
-  x0 -= px, x1 -= px, z0 -= pz, z1 -= pz;
-  return corner_integral(x1, z1, h) - corner_integral(x0, z1, h) - corner_integral(x1, z0, h) +
-         corner_integral(x0, z0, h);
-}
+using test::projected_solid_angle;
 
 /// Renders the film of a camera that sees only `target`, from `eye`.
 Film render_point(const test::EngineUnderTest& engine, const Scene& s, float3 eye, float3 target, RenderSettings rs) {
@@ -274,4 +263,4 @@ TEST(ClosedFormLighting, SkyOnATiltedPlane) {
 }
 
 }  // namespace
-}  // namespace pt
+}  // namespace pt::closed_form_lighting_test

@@ -20,10 +20,13 @@
 
 #include "support/engines_under_test.h"
 #include "support/film_checks.h"
+#include "support/form_factors.h"
 #include "kernels/math/sampling.h"
 #include "support/scene_builders.h"
 
-namespace pt {
+// Its own namespace: its file-local names would clash with another file's of the
+// program, which is compiled as one unity file (tests/CMakeLists.txt).
+namespace pt::emitter_form_factor_test {
 namespace {
 
 const float3 kRho{0.4f, 0.6f, 0.8f};
@@ -31,19 +34,9 @@ const float3 kLe{2.0f, 1.0f, 0.5f};
 constexpr double kHeight = 0.5;
 constexpr float kX0 = -1.0f, kX1 = 1.0f, kZ0 = -0.8f, kZ1 = 1.2f;  // the rectangle at y = kHeight
 
-/// Integral of cos over the rectangle [0, x] x [0, z] at height h above the
-/// origin (a corner above the point), signed by the quadrant of (x, z).
-double corner_integral(double x, double z, double h) {
-  double a = std::fabs(x) / h, b = std::fabs(z) / h, sa = std::sqrt(1 + a * a), sb = std::sqrt(1 + b * b);
-  double value = 0.5 * (a / sa * std::atan(b / sa) + b / sb * std::atan(a / sb));
-  return std::copysign(1.0, x) * std::copysign(1.0, z) * value;
-}
-
 /// Integral of cos over the rectangle seen from floor point (px, 0, pz), by inclusion-exclusion.
 double projected_solid_angle(double px, double pz) {
-  double x0 = kX0 - px, x1 = kX1 - px, z0 = kZ0 - pz, z1 = kZ1 - pz;
-  return corner_integral(x1, z1, kHeight) - corner_integral(x0, z1, kHeight) - corner_integral(x1, z0, kHeight) +
-         corner_integral(x0, z0, kHeight);
+  return test::projected_solid_angle(kX0, kX1, kZ0, kZ1, kHeight, px, pz);
 }
 
 Scene floor_under_emitter() {
@@ -81,4 +74,4 @@ TEST(EmitterFormFactor, FloorUnderAnEmissiveRectangle) {
 }
 
 }  // namespace
-}  // namespace pt
+}  // namespace pt::emitter_form_factor_test

@@ -26,7 +26,9 @@
 #include "support/lane_probes.h"
 #include "support/statistics.h"
 
-namespace pt {
+// Its own namespace: its file-local names would clash with another file's of the
+// program, which is compiled as one unity file (tests/CMakeLists.txt).
+namespace pt::random_numbers_test {
 namespace {
 
 constexpr uint32_t kSeed = 7;
@@ -199,4 +201,4 @@ TEST(RandomNumbers, NoTwoPathsShareAllTheirNumbers) {
 }
 
 }  // namespace
-}  // namespace pt
+}  // namespace pt::random_numbers_test

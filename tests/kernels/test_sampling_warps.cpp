@@ -23,7 +23,9 @@
 #include "support/sampling_histogram.h"
 #include "support/statistics.h"
 
-namespace pt {
+// Its own namespace: its file-local names would clash with another file's of the
+// program, which is compiled as one unity file (tests/CMakeLists.txt).
+namespace pt::sampling_warps_test {
 namespace {
 
 using test::ChiSquareResult;
@@ -131,4 +133,4 @@ TEST(Warps, SimdLanesMatchTheScalarInstantiation) {
 }
 
 }  // namespace
-}  // namespace pt
+}  // namespace pt::sampling_warps_test
