@@ -67,6 +67,8 @@ struct Bvh4 {
   TriangleForm form = TriangleForm::kMollerTrumbore;
 
   bool empty() const { return blocks.empty(); }
+  /// Bytes of nodes and leaf blocks.
+  size_t bytes() const { return nodes.size() * sizeof(Bvh4Node) + blocks.size() * sizeof(TriangleBlock4); }
   const Bvh4Node& node(uint32_t ref) const {
     return *reinterpret_cast<const Bvh4Node*>(reinterpret_cast<const char*>(nodes.data()) + ref);
   }

@@ -24,9 +24,7 @@ namespace pt {
 /// they hide (docs/bvh_and_benchmarks.md: on Zen 4, with 1 MiB of L2, teapot's captured queues 0.89-0.93x with them and
 /// CBbunny's bounce rays, 1.3 MB of tree, 0.93-0.97x of the time without them; on Emerald Rapids, with 2 MiB, CBbunny's
 /// and bunny's queues, 1.3 and 1.5 MB, 1.01-1.12x faster without them than with a bound of 1 MiB).
-inline bool walks_prefetch(const Bvh4& bvh) {
-  return bvh.nodes.size() * sizeof(Bvh4Node) + bvh.blocks.size() * sizeof(TriangleBlock4) > l2_cache_bytes();
-}
+inline bool walks_prefetch(const Bvh4& bvh) { return bvh.bytes() > l2_cache_bytes(); }
 
 /// Starts loading a node (both lines) or a whole leaf (every line of its
 /// blocks: a walk tests them all unless one blocks it), if `on`.

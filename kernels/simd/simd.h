@@ -101,6 +101,28 @@ inline uint32_t movemask(vbool4 m) {
 #endif
 }
 
+/// `bit` in the true lanes of a 4-wide comparison, 0 in the others.
+inline vuint4 bit_where(vbool4 m, uint32_t bit) {
+#if defined(__x86_64__)
+  return vuint4(_mm_and_si128(_mm_castps_si128(m), _mm_set1_epi32(static_cast<int>(bit))));
+#else
+  return vuint4(vandq_u32(m, vdupq_n_u32(bit)));
+#endif
+}
+
+/// The four lanes of v, read from the register (not through memory).
+inline void lanes_of(vuint4 v, uint32_t out[4]) {
+#if defined(__x86_64__)
+  out[0] = static_cast<uint32_t>(_mm_cvtsi128_si32(v));
+  out[1] = static_cast<uint32_t>(_mm_extract_epi32(v, 1));
+  out[2] = static_cast<uint32_t>(_mm_extract_epi32(v, 2));
+  out[3] = static_cast<uint32_t>(_mm_extract_epi32(v, 3));
+#else
+  out[0] = vgetq_lane_u32(v, 0), out[1] = vgetq_lane_u32(v, 1);
+  out[2] = vgetq_lane_u32(v, 2), out[3] = vgetq_lane_u32(v, 3);
+#endif
+}
+
 /// Smallest of the four lanes; the lanes must not be NaN.
 inline float reduce_min(vfloat4 v) {
 #if defined(__x86_64__)

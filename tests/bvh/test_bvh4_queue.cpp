@@ -9,7 +9,9 @@
 // lists thin out and go on ray by ray; the interleaved walks against the
 // single-ray walks from the same node; any-hit parts of at most 64 rays,
 // traced as one masked set; coherent queues traced as sets of 64 rays under
-// a frustum, where it is tightest; nothing written past a queue.
+// a frustum, where it is tightest; short sky-like any-hit queues in a tree
+// past L2 traced as octant sets, which must also do exactly the single rays'
+// work, and the gate that sends queues there; nothing written past a queue.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -805,6 +807,136 @@ TEST(Bvh4Queue, WatertightFormMatchesSingleRays) {
   SceneBvh4 bvh(s, watertight);
   QueueScratch scratch;
   expect_queue_matches_single_rays(bvh, uniform_random_rays(s, 2000, 15), scratch, "watertight");
+}
+
+/// Sky-like shadow rays around and through a closed mesh centred at the
+/// origin: from anywhere in its box (inside and outside), in uniformly random
+/// directions, with the edge cases of the octant sets' slab constants mixed
+/// in: every 5th ray short (from inside, some get out of nothing), every 7th
+/// starting past its origin, every 11th with a +0 or -0 component (the
+/// octant of -0 is the negative one, as a single ray's), every 13th with a
+/// component under NodeRay::kMinDir of either sign (clamped).
+std::vector<Ray> sky_like_rays(const Scene& mesh, size_t n, uint32_t seed) {
+  std::vector<Ray> rays = uniform_random_rays(mesh, n, seed);
+  start_past_origin(rays, 7, seed + 1);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (i % 5 == 1) rays[i].tmax = 0.3f;
+    if (i % 11 == 3) rays[i].dir.x = i % 2 ? -0.0f : 0.0f;
+    if (i % 13 == 4) rays[i].dir.z = i % 2 ? -1e-20f : 1e-20f;
+  }
+  return rays;
+}
+
+TEST(Bvh4Queue, OnlyShortQueuesOverTheWholeSphereInATreePastL2GoAsOctantSets) {
+  // goes_as_octant_sets: a sky's samples (directions over the whole sphere)
+  // in queues of at most kOctantSetMaxRays rays, in a tree that one core's
+  // L2 does not hold, at 4 or 8 lanes; not an area light's cone of
+  // directions, a directional light's one direction, a longer queue, a tree
+  // that the L2 holds or 16 lanes.
+  const Scene fine_mesh = tessellated_sphere(6, {0, 0, 0}, 1.0f), coarse_mesh = tessellated_sphere(4, {0, 0, 0}, 1.0f);
+  SceneBvh4 fine(fine_mesh), coarse(coarse_mesh);
+  const size_t l2 = size_t(1) << 20;  // an L2 of 1 MiB, between the two trees (0.24 and 3.8 MB)
+  ASSERT_GT(fine.bvh().bytes(), l2);
+  ASSERT_LT(coarse.bvh().bytes(), l2);
+  const std::vector<Ray> sky = uniform_random_rays(fine_mesh, kOctantSetMaxRays + 1, 40);
+  const std::span<const Ray> all(sky);
+  for (size_t n : {size_t(16), size_t(127), size_t(128), size_t(375), kOctantSetMaxRays}) {
+    for (size_t lanes : {4u, 8u}) {
+      EXPECT_TRUE(goes_as_octant_sets(fine.bvh(), Queue(all.first(n)).rays(), lanes, l2)) << n << " rays";
+      EXPECT_FALSE(goes_as_octant_sets(coarse.bvh(), Queue(all.first(n)).rays(), lanes, l2)) << n << " rays";
+    }
+    EXPECT_FALSE(goes_as_octant_sets(fine.bvh(), Queue(all.first(n)).rays(), 16, l2)) << n << " rays";
+  }
+  EXPECT_FALSE(goes_as_octant_sets(fine.bvh(), Queue(all).rays(), 8, l2));  // one ray too many
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Ray> area, directional;
+  for (const Ray& r : all.first(kOctantSetMaxRays)) {
+    const float3 on_light{2.0f * u(rng), 6.0f, 2.0f * u(rng)};  // a 4 x 4 light 5 above the box
+    area.push_back({r.org, 0.0f, on_light - r.org, 1.0f});
+    directional.push_back({r.org, 0.0f, {0.3f, 1.0f, 0.2f}, kInfinity});
+  }
+  EXPECT_FALSE(goes_as_octant_sets(fine.bvh(), Queue(area).rays(), 8, l2));
+  EXPECT_FALSE(goes_as_octant_sets(fine.bvh(), Queue(directional).rays(), 8, l2));
+  EXPECT_EQ(direction_spread(Queue(directional).rays(), 0, directional.size()), 0.0f);
+  // The spread, exactly: +x, -x and +y (any length) range 2 on x, 1 on y,
+  // 0 on z; a NaN, an infinite and a zero direction count for nothing. A
+  // spread of exactly kSphereSpread does not span the sphere.
+  std::vector<Ray> three = {{{0, 0, 0}, 0.0f, {3, 0, 0}, 1.0f},         {{0, 0, 0}, 0.0f, {-0.5f, 0, 0}, 1.0f},
+                            {{0, 0, 0}, 0.0f, {0, 2, 0}, 1.0f},         {{0, 0, 0}, 0.0f, {NAN, 0, 1}, 1.0f},
+                            {{0, 0, 0}, 0.0f, {0, -INFINITY, 0}, 1.0f}, {{0, 0, 0}, 0.0f, {0, 0, 0}, 1.0f}};
+  EXPECT_EQ(direction_spread(Queue(three).rays(), 0, three.size()), 3.0f);
+  EXPECT_FALSE(spans_the_sphere(Queue(three).rays()));
+  three.push_back({{0, 0, 0}, 0.0f, {0, 0, 1e-3f}, 1.0f});
+  EXPECT_FLOAT_EQ(direction_spread(Queue(three).rays(), 0, three.size()), 4.0f);
+  EXPECT_TRUE(spans_the_sphere(Queue(three).rays()));
+  // A sky queue of 512 rays with one quarter's run along one direction: the
+  // queue is judged by every quarter.
+  std::vector<Ray> one_run_aligned(sky.begin(), sky.begin() + kOctantSetMaxRays);
+  for (size_t i = 384; i < 384 + kSpreadRun; ++i) one_run_aligned[i].dir = {0, 0, 1};
+  EXPECT_FALSE(spans_the_sphere(Queue(one_run_aligned).rays()));
+}
+
+TEST(Bvh4Queue, OctantSetsMatchSingleRaysAndDoTheirWork) {
+  // Short sky-like queues in a tree past L2 go for any hit as sets of up to
+  // 32 rays of one direction octant (bvh4_octant_sets.h) at 4 and 8 lanes
+  // (at 16, as a stream, whose answers are checked alike): every length from
+  // 1 to 100, then lengths around the set's width and the gate's bound, from
+  // inside and outside a fine sphere, with short rays, tmin > 0, +-0 and
+  // clamped components, and untraceable rays. Each ray gets its single-ray
+  // answer, and visits exactly the nodes and triangles it visits alone (the
+  // sets' counters are the sum of the single rays'). A sphere primitive in
+  // the scene blocks some rays before the tree.
+  Scene mesh = tessellated_sphere(6, {0, 0, 0}, 1.0f);
+  SceneBvh4 bvh(mesh);
+  ASSERT_GT(bvh.bvh().bytes(), l2_cache_bytes());
+  QueueScratch scratch;
+  std::vector<Ray> rays = sky_like_rays(mesh, 8000, 42);
+  for (size_t i = 0; i < rays.size(); i += 97) rays[i].dir.y = NAN;
+  for (size_t i = 50; i < rays.size(); i += 101) rays[i].tmax = rays[i].tmin;  // empty range
+  size_t blocked = 0;
+  for (const Ray& r : rays) blocked += bvh.occluded(r);
+  EXPECT_GT(blocked, rays.size() / 5);  // both answers are exercised
+  EXPECT_LT(blocked, rays.size() - rays.size() / 5);
+  size_t start = 0, as_sets = 0;
+  auto check = [&](size_t n, const std::string& what) {
+    start = (start + 613) % (rays.size() - n);
+    const std::span<const Ray> q = std::span<const Ray>(rays).subspan(start, n);
+    const bool sets = goes_as_octant_sets(bvh.bvh(), Queue(q).rays(), lanes(), l2_cache_bytes());
+    if (n >= 16) { EXPECT_EQ(sets, n <= kOctantSetMaxRays && lanes() <= kOctantSetMaxLanes) << what; }
+    as_sets += sets && n >= 16;  // past the stream's minimum (2-8 rays): traced as sets
+    expect_queue_matches_single_rays(bvh, q, scratch, what);
+    Queue counted(q);
+    TraversalCounters queue_work, alone_work;
+    bvh.occluded(counted.rays(), counted.blocked.data(), scratch, queue_work);
+    for (size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(counted.blocked[i], uint8_t(bvh.occluded(q[i], alone_work))) << what << " counted, ray " << i;
+    }
+    if (sets) {
+      EXPECT_EQ(queue_work.nodes, alone_work.nodes) << what;
+      EXPECT_EQ(queue_work.primitives, alone_work.primitives) << what;
+    }
+  };
+  for (size_t n = 1; n <= 100; ++n) check(n, "sky queue of " + std::to_string(n));
+  for (size_t n : {size_t(127), size_t(129), size_t(255), size_t(375), kOctantSetMaxRays, kOctantSetMaxRays + 1})
+    check(n, "sky queue of " + std::to_string(n));
+  for (Ray& r : rays) r.org = r.org * 0.5f;  // all inside
+  for (size_t n : {size_t(33), size_t(200), kOctantSetMaxRays})
+    check(n, "sky queue from inside of " + std::to_string(n));
+  if (lanes() <= kOctantSetMaxLanes) {
+    EXPECT_EQ(as_sets, 85u + 5u + 3u);  // every queue of 16 rays or more but the 513-ray one
+  } else {
+    EXPECT_EQ(as_sets, 0u);  // at 16 lanes, the stream's answers
+  }
+  mesh.spheres.push_back({{0.3f, 0.2f, -0.1f}, 0.4f, mesh.triangle_material[0]});
+  mesh.bounds = compute_scene_bounds(mesh);
+  SceneBvh4 with_sphere(mesh);
+  for (size_t n : {size_t(40), size_t(300)}) {
+    const std::span<const Ray> q = std::span<const Ray>(rays).first(n);
+    EXPECT_EQ(goes_as_octant_sets(with_sphere.bvh(), Queue(q).rays(), lanes(), l2_cache_bytes()),
+              lanes() <= kOctantSetMaxLanes);
+    expect_queue_matches_single_rays(with_sphere, q, scratch, "with a sphere, " + std::to_string(n) + " rays");
+  }
 }
 
 TEST(Bvh4Queue, AnEmptySceneHitsNothing) {

@@ -1,0 +1,175 @@
+// Any hit of an incoherent queue as sets of up to 32 rays of one direction
+// octant (Embree's incoherent stream, over the BVH4): the queue's rays are
+// binned by the signs of their directions, and each bin of 32 rays walks the
+// tree together with one stack of (node, mask of the set's rays that enter
+// it). A node is loaded once for all its rays; each ray in its mask is tested
+// alone against the four children (one 4-wide slab test, the set's shared
+// near and far planes), its hits ORed into the children's masks in four
+// 32-bit lanes. A leaf takes its rays one by one through the single ray's
+// leaf test. A ray's node and leaf tests are those of its single-ray walk,
+// so it visits the leaves it visits alone and is blocked exactly when it is
+// alone. Pays where a short queue's directions span the sphere (a sky's
+// samples) in a tree past L2, at up to 8 lanes (goes_as_octant_sets,
+// queue_coherence.h); Moller-Trumbore leaves.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "bvh4_traverse.h"
+#include "kernels/math/ray_arrays.h"
+
+#ifndef PT_ISA_NS
+#error "bvh4_octant_sets.h is for code compiled once per instruction-set level"
+#endif
+
+namespace pt {
+namespace octant_detail {
+
+/// Rays of one set: the width of a lane of the children's masks.
+inline constexpr uint32_t kOctantSetRays = 32;
+
+/// The slab constants of up to kOctantSetRays rays of one octant, and their indices
+/// in the queue. 4,800 bytes (4,740 used; eight of them, one per octant, on
+/// the tracing thread's stack).
+struct OctantSet {
+  alignas(64) float rdir[3][kOctantSetRays];
+  alignas(64) float org_rdir[3][kOctantSetRays];
+  alignas(64) float tmin[kOctantSetRays];
+  alignas(64) float tmax[kOctantSetRays];
+  uint32_t id[kOctantSetRays];
+  uint32_t count = 0;
+  MtBlockRay block_ray[kOctantSetRays];
+};
+static_assert(sizeof(OctantSet) == 4800);
+
+/// The octant of a ray: bit a set when NodeRay's reciprocal direction on
+/// axis a is negative (the sign bit of dir[a], -0 included: NodeRay clamps it
+/// to -kMinDir). Under flush-to-zero a component below -8.5e37 has a
+/// reciprocal of -0, which NodeRay counts as positive; then both planes give
+/// the same distances (0 times either), so the test's answer is the same.
+PT_ALWAYS_INLINE uint32_t octant_of(const Ray& r) {
+  return uint32_t(std::signbit(r.dir.x)) | uint32_t(std::signbit(r.dir.y)) << 1 | uint32_t(std::signbit(r.dir.z)) << 2;
+}
+
+/// Appends ray `id` to the set with NodeRay's constants.
+PT_ALWAYS_INLINE void add_ray(OctantSet& s, const Ray& r, uint32_t id) {
+  const uint32_t k = s.count++;
+  for (int a = 0; a < 3; ++a) {
+    const float d = r.dir[a];
+    const float safe = std::fabs(d) < NodeRay::kMinDir ? std::copysign(NodeRay::kMinDir, d) : d;
+    const float inv = 1.0f / safe;
+    s.rdir[a][k] = inv;
+    s.org_rdir[a][k] = r.org[a] * inv;
+  }
+  s.tmin[k] = r.tmin;
+  s.tmax[k] = r.tmax;
+  s.id[k] = id;
+  s.block_ray[k] = MtBlockRay(r);
+}
+
+/// The set's rays blocked in the tree (bit k for ray s.id[k]).
+template <class C>
+[[gnu::noinline]] inline uint32_t occluded_set(const Bvh4& bvh, const OctantSet& s, uint32_t octant, C& counters) {
+  uint32_t near[3], far[3];
+  for (int a = 0; a < 3; ++a) {
+    const uint32_t lower = uint32_t(2 * a * sizeof(float[4])), upper = lower + uint32_t(sizeof(float[4]));
+    near[a] = (octant >> a & 1) ? upper : lower;
+    far[a] = (octant >> a & 1) ? lower : upper;
+  }
+  struct Entry {
+    uint32_t ref, mask;
+  };
+  Entry stack[kBvh4StackSize];
+  Entry* sp = stack;
+  uint32_t blocked = 0;
+  *sp++ = {bvh.root, s.count == kOctantSetRays ? ~0u : (1u << s.count) - 1};
+  while (sp != stack) {
+    --sp;
+    uint32_t ref = sp->ref;
+    uint32_t mask = sp->mask & ~blocked;
+    if (mask == 0) continue;
+    while (!bvh4_ref::is_leaf(ref)) {
+      const Bvh4Node& node = bvh.node(ref);
+      counters.nodes_tested(std::popcount(mask));
+      const char* base = reinterpret_cast<const char*>(&node);
+      auto plane = [base](uint32_t offset) {
+        return vfloat4::load_aligned(reinterpret_cast<const float*>(base + offset));
+      };
+      const vfloat4 nx = plane(near[0]), ny = plane(near[1]), nz = plane(near[2]);
+      const vfloat4 fx = plane(far[0]), fy = plane(far[1]), fz = plane(far[2]);
+      vuint4 entered(0u);  // lane c: the rays that enter child c
+      for (uint32_t m = mask; m; m &= m - 1) {
+        const uint32_t k = std::countr_zero(m);
+        const vfloat4 rx(s.rdir[0][k]), ry(s.rdir[1][k]), rz(s.rdir[2][k]);
+        const vfloat4 ox(s.org_rdir[0][k]), oy(s.org_rdir[1][k]), oz(s.org_rdir[2][k]);
+        // intersect_node's operations in its order, for the same bits
+        const vfloat4 tnear = xsimd::max(xsimd::max(fused_mul_sub(nx, rx, ox), fused_mul_sub(ny, ry, oy)),
+                                         xsimd::max(fused_mul_sub(nz, rz, oz), vfloat4(s.tmin[k])));
+        const vfloat4 tfar = xsimd::min(xsimd::min(fused_mul_sub(fx, rx, ox), fused_mul_sub(fy, ry, oy)),
+                                        xsimd::min(fused_mul_sub(fz, rz, oz), vfloat4(s.tmax[k])));
+        entered = entered | bit_where(tnear <= tfar, 1u << k);
+      }
+      uint32_t child_mask[4];
+      lanes_of(entered, child_mask);
+      // Node order, the last child entered goes on, the others wait (as a
+      // single ray's any-hit walk takes them).
+      int next = -1;
+      for (int c = 0; c < 4; ++c) {
+        if (child_mask[c] == 0) continue;
+        if (next >= 0) {
+          *sp++ = {node.child[next], child_mask[next]};
+          prefetch_ref(bvh, node.child[next]);
+        }
+        next = c;
+      }
+      if (next < 0) goto pop;
+      ref = node.child[next];
+      mask = child_mask[next];
+      prefetch_first_child(bvh, ref);
+    }
+    {
+      const TriangleBlock4* blocks = bvh.leaf_blocks(ref);
+      const uint32_t n_blocks = bvh4_ref::leaf_block_count(ref);
+      for (uint32_t m = mask; m; m &= m - 1) {
+        const uint32_t k = std::countr_zero(m);
+        if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, s.block_ray[k], vfloat4(s.tmax[k]),
+                                                         counters))
+          blocked |= m & -m;
+      }
+    }
+  pop:;
+  }
+  return blocked;
+}
+
+}  // namespace octant_detail
+
+/// Sets blocked[i] = 1 for every ray i of the queue that the tree blocks (as
+/// bvh4_occluded), tracing the traceable rays not yet blocked (blocked[i] = 0)
+/// as octant sets; writes nothing for the others. Moller-Trumbore leaves.
+template <class C>
+inline void bvh4_occluded_octant_sets(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, C& counters) {
+  using namespace octant_detail;
+  if (bvh.empty()) return;
+  OctantSet sets[8];
+  auto flush = [&](uint32_t octant) {
+    OctantSet& s = sets[octant];
+    if (s.count == 0) return;
+    for (uint32_t hit = occluded_set(bvh, s, octant, counters); hit; hit &= hit - 1)
+      blocked[s.id[std::countr_zero(hit)]] = 1;
+    s.count = 0;
+  };
+  for (size_t i = 0; i < rays.size; ++i) {
+    if (blocked[i]) continue;
+    const Ray r = rays.ray(i);
+    if (!ray_is_traceable(r)) continue;
+    const uint32_t octant = octant_of(r);
+    add_ray(sets[octant], r, static_cast<uint32_t>(i));
+    if (sets[octant].count == kOctantSetRays) flush(octant);
+  }
+  for (uint32_t octant = 0; octant < 8; ++octant) flush(octant);
+}
+
+}  // namespace pt
