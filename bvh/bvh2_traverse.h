@@ -4,10 +4,12 @@
 
 #include <cmath>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh2.h"
 #include "kernels/math/ray.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Per-ray constants of the slab test.
 struct SlabRay {
@@ -65,4 +67,5 @@ inline bool traverse_bvh2(const Bvh2& bvh, const Ray& ray, float& tmax, LeafFn&&
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -48,6 +48,7 @@ inline constexpr uint32_t kLeafBit = 1;
 inline constexpr uint32_t kMaxLeafBlocks = 16;
 inline constexpr uint32_t kEmptyRef = 0xFFFFFFFFu;
 
+inline namespace PT_ISA_NS {
 constexpr bool is_leaf(uint32_t ref) { return (ref & kLeafBit) != 0; }
 constexpr uint32_t inner(uint32_t node_index) { return node_index * uint32_t(sizeof(Bvh4Node)); }
 constexpr uint32_t node_index(uint32_t ref) { return ref / uint32_t(sizeof(Bvh4Node)); }
@@ -56,6 +57,7 @@ constexpr uint32_t leaf(uint32_t first_block, uint32_t block_count) {
 }
 constexpr uint32_t leaf_offset(uint32_t ref) { return ref & ~31u; }
 constexpr uint32_t leaf_block_count(uint32_t ref) { return ((ref >> 1) & 15u) + 1; }
+}  // namespace PT_ISA_NS
 }  // namespace bvh4_ref
 
 /// The whole structure. `root` is an inner node or a leaf; with no triangles,

@@ -24,16 +24,18 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4_node_test.h"
 #include "bvh4_packet.h"
 #include "bvh4_traverse.h"
 #include "triangle4_intersect.h"
 
-#ifndef PT_ISA_NS
+#if !PT_PER_LEVEL
 #error "bvh4_coherent_set.h is for code compiled once per instruction-set level"
 #endif
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Rays a coherent set holds at most (one bit each in a 64-bit mask).
 inline constexpr uint32_t kSetRays = 64;
@@ -378,4 +380,5 @@ inline uint64_t bvh4_occluded_set(const Bvh4& bvh, const CoherentSet& s) {
   return blocked;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

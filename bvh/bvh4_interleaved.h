@@ -13,10 +13,12 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4_traverse.h"
 #include "kernels/simd/cache_size.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Whether walks of `bvh` prefetch what they need next: trees larger than the
 /// L2 cache of one core (nodes and leaf blocks) have their walks load the next node or leaf ahead (prefetch_target):
@@ -236,4 +238,5 @@ inline void bvh4_occluded_interleaved(const Bvh4& bvh, Next&& next, Done&& done,
       bvh, next, done, [](uint32_t) { return false; }, counters);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

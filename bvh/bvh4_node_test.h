@@ -9,11 +9,13 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4.h"
 #include "kernels/math/ray.h"
 #include "kernels/simd/simd.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Whether the query is well-formed: finite origin and direction, tmin and
 /// tmax not NaN. Other rays hit nothing.
@@ -62,4 +64,5 @@ PT_ALWAYS_INLINE uint32_t intersect_node(const Bvh4Node& node, const NodeRay& r,
   return movemask(tnear <= tfar);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -17,14 +17,16 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4_traverse.h"
 #include "kernels/math/ray_arrays.h"
 
-#ifndef PT_ISA_NS
+#if !PT_PER_LEVEL
 #error "bvh4_octant_sets.h is for code compiled once per instruction-set level"
 #endif
 
 namespace pt {
+inline namespace PT_ISA_NS {
 namespace octant_detail {
 
 /// Rays of one set: the width of a lane of the children's masks.
@@ -172,4 +174,5 @@ inline void bvh4_occluded_octant_sets(const Bvh4& bvh, const RayArrays& rays, ui
   for (uint32_t octant = 0; octant < 8; ++octant) flush(octant);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

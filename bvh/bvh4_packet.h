@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4.h"
 #include "bvh4_node_test.h"
 #include "bvh4_traverse.h"
@@ -21,11 +22,12 @@
 #include "kernels/math/ray_arrays.h"
 #include "kernels/simd/simd.h"
 
-#ifndef PT_ISA_NS
+#if !PT_PER_LEVEL
 #error "bvh4_packet.h is for code compiled once per instruction-set level"
 #endif
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// K rays in SoA form with the per-packet constants of the slab test.
 struct RayPacket {
@@ -350,4 +352,5 @@ inline void bvh4_intersect_packet(const Bvh4& bvh, RayPacket& p, PacketHits& h) 
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

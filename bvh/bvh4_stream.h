@@ -31,17 +31,19 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4_interleaved.h"
 #include "bvh4_traverse.h"
 #include "kernels/math/ray_arrays.h"
 #include "queue_prefetch.h"
 #include "queue_scratch.h"
 
-#ifndef PT_ISA_NS
+#if !PT_PER_LEVEL
 #error "bvh4_stream.h is for code compiled once per instruction-set level"
 #endif
 
 namespace pt {
+inline namespace PT_ISA_NS {
 namespace stream_detail {
 
 /// Rays a list needs for its node or leaf to be tested across rays.
@@ -918,4 +920,5 @@ inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

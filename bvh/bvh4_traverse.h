@@ -11,6 +11,7 @@
 #include <bit>
 #include <cmath>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh2.h"
 #include "bvh4.h"
 #include "bvh4_node_test.h"
@@ -19,6 +20,7 @@
 #include "triangle4_intersect.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Entries a traversal stack needs: at most three pushes per level (a
 /// single ray pushes the children it does not visit first; the queue tracer
@@ -285,4 +287,5 @@ inline bool bvh4_occluded(const Bvh4& bvh, const Ray& ray, C& counters) {
   return bvh4_occluded_below<F>(bvh, bvh.root, ray, counters);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -12,11 +12,13 @@
 #include <cmath>
 #include <cstddef>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4.h"
 #include "kernels/math/ray_arrays.h"
 #include "kernels/simd/cache_size.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// How close the origins of a coherent run lie: within a 32nd of the scene's
 /// extent of the run's first origin.
@@ -131,4 +133,5 @@ inline bool goes_as_octant_sets(const Bvh4& bvh, const RayArrays& rays, size_t l
          spans_the_sphere(rays);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

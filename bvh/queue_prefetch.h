@@ -9,10 +9,12 @@
 
 #include <cstddef>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/ray_arrays.h"
 #include "kernels/simd/simd.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// How far ahead of the rays being loaded prefetch_queue_rays reaches: a few
 /// packets, a few hundred nanoseconds of tracing.
@@ -28,4 +30,5 @@ PT_ALWAYS_INLINE void prefetch_queue_rays(const RayArrays& q, size_t i) {
   prefetch_l1(q.tmax + i);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

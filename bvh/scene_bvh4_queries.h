@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4_coherent_set.h"
 #include "bvh4_octant_sets.h"
 #include "bvh4_packet.h"
@@ -24,11 +25,12 @@
 #include "kernels/scene/sphere_intersect_lanes.h"
 #include "scene_bvh4.h"
 
-#ifndef PT_ISA_NS
+#if !PT_PER_LEVEL
 #error "scene_bvh4_queries.h is for code compiled once per instruction-set level"
 #endif
 
 namespace pt::bvh4_queries {
+inline namespace PT_ISA_NS {
 
 /// The spheres (tested outside the BVH, one by one): the closest within
 /// [tmin, hit.t) replaces `hit`. Whether one did.
@@ -346,4 +348,5 @@ inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* b
   else bvh4_occluded_stream(s.bvh(), rays, blocked, scratch, c);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::bvh4_queries

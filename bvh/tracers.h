@@ -5,10 +5,12 @@
 // level (the BVH4's queries are inlined).
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "scene_bvh2.h"
 #include "scene_bvh4_queries.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// The 4-wide BVH. kCount: also count primitive tests (off in the fast path;
 /// counting traces packets ray by ray).
@@ -109,4 +111,5 @@ struct Bvh2Tracer {
   bool occluded(const Ray& r, uint64_t& tests) const { return accel.occluded(r, tests); }
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

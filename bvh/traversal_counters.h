@@ -5,6 +5,8 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
+
 namespace pt {
 
 /// 16 bytes. Accumulates over any number of queries.
@@ -24,6 +26,7 @@ struct TraversalCounters {
 };
 static_assert(sizeof(TraversalCounters) == 16);
 
+inline namespace PT_ISA_NS {
 /// The fast path's counters: nothing.
 struct NoCounters {
   static constexpr bool kEnabled = false;
@@ -32,4 +35,5 @@ struct NoCounters {
   void primitives_tested(uint32_t) {}
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -1,10 +1,12 @@
 // Out-of-line parts of the block tests: the watertight ray setup and the
 // double-precision fallback for edge functions that are exactly zero.
+#include "kernels/simd/isa_namespace.h"
 #include "triangle4_intersect.h"
 
 #include <utility>
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 WatertightBlockRay::WatertightBlockRay(const Ray& r) : tmin(r.tmin) {
   float3 a = abs(r.dir);
@@ -38,4 +40,5 @@ void watertight_edges_in_double(const float ax[4], const float ay[4], const floa
   w = vfloat4::load_aligned(fw);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

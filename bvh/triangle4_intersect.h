@@ -8,11 +8,13 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh4.h"
 #include "kernels/math/ray.h"
 #include "kernels/simd/simd.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// t, u, v of the four lanes; meaningful in the lanes of the returned mask,
 /// and t = +inf in the other lanes.
@@ -289,4 +291,5 @@ PT_ALWAYS_INLINE uint32_t intersect_block_watertight(const TriangleBlock4& b, co
   return finish_block_hits(det, t_num, v, w, !(negative & positive), r.tmin, tmax, h);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

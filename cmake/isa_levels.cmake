@@ -3,7 +3,7 @@
 # PT_ISA_LEVELS lists the levels this build compiles the kernels for; level L
 # compiles with PT_ISA_FLAGS_<L> and the definitions PT_ISA_NS=isa_<L> and
 # PT_ISA=::pt::Isa::<enum>. Everything else is compiled once with
-# PT_BASELINE_FLAGS. pt_add_isa_objects() adds a level's copy of some sources
+# PT_BASELINE_FLAGS (and PT_ISA_NS=isa_baseline, kernels/simd/isa_namespace.h). pt_add_isa_objects() adds a level's copy of some sources
 # to a library; kernels/simd/isa_list.h (generated) lists the compiled levels.
 
 set(PT_ISA_ENUM_sse42 kSse42)
@@ -89,27 +89,21 @@ file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/generated/kernels/simd/isa_list.h CO
 #define PT_ISA_TABLE_ADDRESSES(SYMBOL) ${pointers}
 ")
 
-find_program(PT_OBJCOPY NAMES ${CMAKE_OBJCOPY} objcopy REQUIRED)
-find_program(PT_NM NAMES ${CMAKE_NM} nm REQUIRED)
-
 # Adds to static library TARGET one copy of SOURCES per level in
 # PT_ISA_LEVELS, compiled with that level's flags against the usage
-# requirements of DEPENDS and TARGET's own include root (pt_layer first). Each level's objects are linked into one
-# relocatable object in which every symbol but those of pt::isa_<level> is
-# made local: inline functions and template instances (the standard
-# library's included) compiled for one level can then never be picked by the
-# linker for code of another level, or for the code compiled once.
+# requirements of DEPENDS and TARGET's own include root (pt_layer first).
+# Every inline function and template such a copy instantiates sits in the
+# level's namespace, `inline namespace PT_ISA_NS` (kernels/simd/isa_namespace.h),
+# so each level's copies have names of their own and the linker can never
+# hand one level's code another level's copy. tests/layering checks the
+# objects (check_isa_symbols.py): a symbol outside the namespace must be a
+# library's, made only of instructions of the lowest level.
 function(pt_add_isa_objects target)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
   foreach(level IN LISTS PT_ISA_LEVELS)
     set(objects ${target}_${level})
     add_library(${objects} OBJECT ${ARG_SOURCES})
     target_compile_options(${objects} PRIVATE ${PT_ISA_FLAGS_${level}})
-    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-      # Weak instead of STB_GNU_UNIQUE definitions (inline variables, statics
-      # of inline functions), which objcopy could not make local.
-      target_compile_options(${objects} PRIVATE -fno-gnu-unique)
-    endif()
     if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND level STREQUAL "avx512")
       # GCC 12's AVX-512 gathers and min/max start from a deliberately
       # undefined register (_mm512_undefined_ps), which -Wmaybe-uninitialized
@@ -122,16 +116,8 @@ function(pt_add_isa_objects target)
     if(own_root)
       target_include_directories(${objects} PRIVATE ${own_root})
     endif()
-    set(out ${CMAKE_CURRENT_BINARY_DIR}/${objects}.o)
-    add_custom_command(
-      OUTPUT ${out}
-      COMMAND bash ${PROJECT_SOURCE_DIR}/cmake/localize_isa_objects.sh
-              ${CMAKE_LINKER} ${PT_OBJCOPY} ${PT_NM} isa_${level} ${out} $<TARGET_OBJECTS:${objects}>
-      # The object library's target name orders the build (Makefile generators
-      # have no rule for another target's objects); its objects re-run the step.
-      DEPENDS ${objects} $<TARGET_OBJECTS:${objects}> ${PROJECT_SOURCE_DIR}/cmake/localize_isa_objects.sh
-      COMMAND_EXPAND_LISTS VERBATIM
-      COMMENT "Linking the ${level} kernels of ${target} with local symbols")
-    target_sources(${target} PRIVATE ${out})
+    target_sources(${target} PRIVATE $<TARGET_OBJECTS:${objects}>)
+    set_property(GLOBAL APPEND PROPERTY PT_ISA_OBJECT_LIBRARIES ${objects})
+    set_property(TARGET ${objects} PROPERTY PT_ISA_LEVEL ${level})
   endforeach()
 endfunction()

@@ -7,6 +7,7 @@
 #include "wavefront_renderer.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 namespace {
 
 /// Calls render(tracer) with the tracer `tracing` names.
@@ -20,17 +21,18 @@ RenderOutput with_tracer(const Tracing& tracing, Render&& render) {
 RenderOutput wavefront(const Scene& scene, const Camera& camera, const RenderSettings& rs, const Tracing& tracing,
                        const WavefrontOptions& options, const RenderControl& control, StageStats* stage_stats) {
   return with_tracer(tracing, [&](const auto& tracer) {
-    return render_wavefront(scene, camera, rs, tracer, options, control, stage_stats);
+    return render_wavefront_with(scene, camera, rs, tracer, options, control, stage_stats);
   });
 }
 
 RenderOutput megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs, const Tracing& tracing,
                         const RenderControl& control) {
   return with_tracer(tracing,
-                     [&](const auto& tracer) { return render_megakernel(scene, camera, rs, tracer, control); });
+                     [&](const auto& tracer) { return render_megakernel_with(scene, camera, rs, tracer, control); });
 }
 
 }  // namespace
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf
 
 namespace pt::PT_ISA_NS {

@@ -1,4 +1,5 @@
 // fetch_surfaces: gathers and the sphere patch; SurfaceLanes.
+#include "kernels/simd/isa_namespace.h"
 #include "fetch_surfaces.h"
 
 #include <algorithm>
@@ -6,6 +7,7 @@
 #include "kernels/transport/surface.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 namespace {
 
 /// Forced inline: called out of line at AVX2, each of its six calls spilled
@@ -119,4 +121,5 @@ void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, 
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

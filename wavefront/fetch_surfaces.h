@@ -6,6 +6,7 @@
 
 #include <cstddef>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/transport/surface.h"
 #include "kernels/simd/simd.h"
@@ -13,6 +14,7 @@
 #include "wave_context.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 struct SurfaceBatch {
   Vec3T<vfloatK> p, ng, ns;  ///< ng, ns turned towards the incoming ray
@@ -45,4 +47,5 @@ SurfaceBatch fetch_surfaces(const WaveContext& ctx, const RayQueue& rays, const 
 /// (whose indices should have been prefetched a chunk earlier).
 void prefetch_surfaces(const WaveContext& ctx, const HitQueue& hits, size_t i0, bool vertices);
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

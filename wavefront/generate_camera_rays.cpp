@@ -1,5 +1,6 @@
 // generate_camera_rays: identities in scalar, keys, jitter, lens samples and
 // directions in SIMD.
+#include "kernels/simd/isa_namespace.h"
 #include "generate_camera_rays.h"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include "soa_lanes.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixels, uint32_t first_sample,
                           uint32_t samples, PathState& paths, RayQueue& rays) {
@@ -68,4 +70,5 @@ void generate_camera_rays(const WaveContext& ctx, std::span<const uint32_t> pixe
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -2,6 +2,7 @@
 // starts, a stable scatter of indices, then every field of both queues
 // gathered in the new order (K lanes per gather; a field of one value, as a
 // bounce queue's tmin and tmax, filled instead).
+#include "kernels/simd/isa_namespace.h"
 #include "hit_point_order.h"
 
 #include <utility>
@@ -9,6 +10,7 @@
 #include "kernels/simd/simd.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 namespace {
 
 /// Bits 0..2 of each lane moved to bits 0, 3, 6 (one axis of a 9-bit Morton code).
@@ -100,4 +102,5 @@ void sort_by_hit_point(const BBox& b, RayQueue& rays, HitQueue& hits, HitPointOr
   std::swap(hits, s.hits);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

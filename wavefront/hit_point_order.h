@@ -14,10 +14,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/bbox.h"
 #include "streams.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// The sort's scratch and the sorted queues (swapped with the sorted ones).
 struct HitPointOrder {
@@ -34,4 +36,5 @@ struct HitPointOrder {
 /// cell).
 void sort_by_hit_point(const BBox& bounds, RayQueue& rays, HitQueue& hits, HitPointOrder& scratch);
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

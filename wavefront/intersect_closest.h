@@ -5,11 +5,13 @@
 
 #include <algorithm>
 
+#include "kernels/simd/isa_namespace.h"
 #include "streams.h"
 #include "trace_mode.h"
 #include "wave_buffers.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// hits[i] = closest hit of rays[i] (prim = kInvalidId on a miss).
 template <class Tracer>
@@ -40,4 +42,5 @@ void intersect_closest(const Tracer& tracer, const RayQueue& rays, HitQueue& hit
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -5,11 +5,13 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/simd/simd.h"
 #include "soa_lanes.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 struct LaneFloats {
   alignas(64) float v[kLanes];
@@ -68,4 +70,5 @@ inline void continue_paths(uint32_t mask, vuintK path, const Vec3T<vfloatK>& bet
                         .bsdf_pdf = pdf});
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

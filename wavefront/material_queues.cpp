@@ -1,11 +1,13 @@
 // bin_by_material: the kind of each lane's material, then one compressed
 // append per kind present in the chunk.
+#include "kernels/simd/isa_namespace.h"
 #include "material_queues.h"
 
 #include "lane_output.h"
 #include "soa_lanes.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 void bin_by_material(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, MaterialQueues& q) {
   for (size_t k = 0; k < kMaterialKindCount; ++k) {
@@ -43,4 +45,5 @@ void bin_by_material(const WaveContext& ctx, const RayQueue& rays, const HitQueu
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

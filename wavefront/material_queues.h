@@ -7,11 +7,13 @@
 
 #include <cstddef>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/scene/scene.h"
 #include "streams.h"
 #include "wave_context.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// 68 bytes per ray (a RayQueue item and a HitQueue item), per kind present.
 struct MaterialQueues {
@@ -29,4 +31,5 @@ struct MaterialQueues {
 /// order within each kind (SIMD compaction, K lanes at a time).
 void bin_by_material(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, MaterialQueues& q);
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -8,21 +8,21 @@
 
 #include <chrono>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/transport/camera_sample.h"
 #include "kernels/transport/path_integrator.h"
 #include "kernels/render/render_job.h"
 #include "pass_driver.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 template <class Tracer>
-RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const RenderSettings& rs, const Tracer& tracer,
-                               const RenderControl& control = {}) {
-  auto start = std::chrono::steady_clock::now();
+RenderOutput render_megakernel_with(const Scene& scene, const Camera& camera, const RenderSettings& rs,
+                                    const Tracer& tracer, const RenderControl& control) {
+  const auto start = std::chrono::steady_clock::now();
   const PathIntegrator<Tracer> path(scene, rs, tracer);
-  Accumulation acc = initial_accumulation(rs, control);
-  RenderOutput out;
-  auto chunk = [&](std::span<const uint32_t> pixels, uint32_t first, uint32_t len, Accumulation& px,
+  auto chunk = [&](uint32_t, std::span<const uint32_t> pixels, uint32_t first, uint32_t len, Accumulation& px,
                    RenderStats& stats) {
     for (uint32_t pixel : pixels) {
       int x = static_cast<int>(pixel % static_cast<uint32_t>(rs.width));
@@ -35,11 +35,10 @@ RenderOutput render_megakernel(const Scene& scene, const Camera& camera, const R
       stats.samples += len;
     }
   };
-  run_passes(rs, 4096, control, acc, out.stats, chunk);
-  out.film = film_from(acc, rs, control);
-  out.cancelled = control.cancelled();
+  RenderOutput out = render_passes(rs, 4096, control, chunk);
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
 #include "engines.h"
 #include "generate_camera_rays.h"
 #include "hit_point_order.h"
@@ -19,6 +20,7 @@
 #include "wave_buffers.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// Hands a copy of `queue` to options.capture, if set.
 template <class Queue>
@@ -101,4 +103,5 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -1,4 +1,5 @@
 // russian_roulette: SIMD decisions, compressed stores for the compaction.
+#include "kernels/simd/isa_namespace.h"
 #include "russian_roulette.h"
 
 #include <cassert>
@@ -10,6 +11,7 @@
 #include "sampler_lanes.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, const PathState& paths,
                       RayQueue& next) {
@@ -33,4 +35,5 @@ void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& c
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

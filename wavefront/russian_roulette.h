@@ -6,10 +6,12 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "streams.h"
 #include "wave_context.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// `vertex` = the path vertex the candidates leave from, one where roulette
 /// applies (PathRules::roulette_applies; before it, shading writes the next
@@ -17,4 +19,5 @@ namespace pt::wf {
 void russian_roulette(const WaveContext& ctx, uint32_t vertex, const RayQueue& candidates, const PathState& paths,
                       RayQueue& next);
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -6,11 +6,13 @@
 // kernels/simd/simd.h now rules out.)
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/transport/path_sampler.h"
 #include "kernels/simd/simd.h"
 #include "streams.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 using SamplerK = PathSamplerT<vuintK, vfloatK>;
 
@@ -19,4 +21,5 @@ inline SamplerK sampler_of_paths(const RenderSettings& rs, const PathState& path
   return SamplerK(rs, gather(paths.pixel.data(), path), gather(paths.sample.data(), path));
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -2,6 +2,7 @@
 // lane takes the same lobe code. No light samples (a delta lobe cannot be
 // hit by one); the continuation is marked delta (bsdf_pdf < 0) so that the
 // light it finds counts at full weight (shade_diffuse's add_emission).
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/transport/bsdf.h"
 #include "kernels/transport/sample_dimensions.h"
 #include "kernels/transport/surface.h"
@@ -9,6 +10,7 @@
 #include "shade_kernels.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, const RayQueue& rays, const HitQueue& hits,
                  PathState& paths, ShadeOutputs out) {
@@ -46,4 +48,5 @@ void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, cons
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -3,6 +3,7 @@
 // light found by the previous BSDF sample), direct light and BSDF sampling
 // as separate steps, by the path rules and per-sample math every engine
 // shares (kernels/transport/path_rules.h, kernels/transport/direct_light.h) taken K lanes wide.
+#include "kernels/simd/isa_namespace.h"
 #include "shade_kernels.h"
 
 #include <optional>
@@ -16,6 +17,7 @@
 #include "lane_output.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 namespace {
 
 /// What the steps of one chunk share.
@@ -139,4 +141,5 @@ void shade_diffuse(const WaveContext& ctx, uint32_t depth, const RayQueue& rays,
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "fetch_surfaces.h"
 #include "kernels/math/frame.h"
 #include "kernels/simd/simd.h"
@@ -13,6 +14,7 @@
 #include "shade_surfaces.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 using V3 = Vec3T<vfloatK>;
 
@@ -58,4 +60,5 @@ void shade_delta(const WaveContext& ctx, uint32_t depth, MaterialKind kind, cons
 void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits,
                       PathState& paths, ShadeOutputs out);
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -1,6 +1,7 @@
 // shade_microfacet: rough conductors. Light samples (or hemisphere probes)
 // weighted by the microfacet BRDF and, under MIS, by its pdf; a continuation
 // reflected about a Beckmann-sampled normal (kernels/transport/bsdf.h), K lanes wide.
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/transport/bsdf.h"
 #include "kernels/transport/direct_light.h"
 #include "kernels/transport/sample_dimensions.h"
@@ -9,6 +10,7 @@
 #include "shade_kernels.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits,
                       PathState& paths, ShadeOutputs out) {
@@ -66,4 +68,5 @@ void shade_microfacet(const WaveContext& ctx, uint32_t depth, const RayQueue& ra
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -2,6 +2,7 @@
 // is diffuse; otherwise the rays binned by material kind, then one kernel
 // per kind present (or, unsorted, every kernel over every ray: what sorting
 // buys is measured against that).
+#include "kernels/simd/isa_namespace.h"
 #include "shade_surfaces.h"
 
 #include "kernels/transport/shading.h"
@@ -9,6 +10,7 @@
 #include "shade_kernels.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays, const HitQueue& hits,
                     PathState& paths, ShadeOutputs out, MaterialQueues& by_material) {
@@ -47,4 +49,5 @@ void shade_normals(const WaveContext& ctx, const RayQueue& rays, const HitQueue&
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -9,11 +9,13 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "material_queues.h"
 #include "streams.h"
 #include "wave_context.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 struct ShadeOutputs {
   ShadowQueue& shadows;     ///< occlusion rays of light sampling
@@ -30,4 +32,5 @@ void shade_surfaces(const WaveContext& ctx, uint32_t depth, const RayQueue& rays
 /// Normal shading: radiance = shading normal * 0.5 + 0.5 at the hit.
 void shade_normals(const WaveContext& ctx, const RayQueue& rays, const HitQueue& hits, PathState& paths);
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

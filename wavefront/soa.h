@@ -11,9 +11,11 @@
 #include <new>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/simd/simd.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 template <class T>
 struct AlignedAllocator {
@@ -35,6 +37,7 @@ using AlignedVector = std::vector<T, AlignedAllocator<T>>;
 /// n rounded up to a whole number of the widest batches (kMaxLanes).
 inline size_t round_up_to_lanes(size_t n) { return (n + kMaxLanes - 1) / kMaxLanes * kMaxLanes; }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf
 
 #define PT_SOA_ARRAY(type, name) ::pt::wf::AlignedVector<type> name;

@@ -10,10 +10,12 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/simd/simd.h"
 #include "streams.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// The K-wide register of a stream field's type.
 template <class T>
@@ -35,6 +37,7 @@ inline void reserve_lanes(Stream& s) {
   if (s.size + kLanes > s.capacity) s.reserve(2 * s.capacity + kLanes);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf
 
 #define PT_SOA_LANE_MEMBER(T, name) ::pt::wf::lane_t<T> name;
@@ -65,10 +68,12 @@ inline void reserve_lanes(Stream& s) {
   }
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 PT_SOA_LANES(PathLanes, PathState, PT_PATH_FIELDS)
 PT_SOA_LANES(RayLanes, RayQueue, PT_RAY_FIELDS)
 PT_SOA_LANES(HitLanes, HitQueue, PT_HIT_FIELDS)
 PT_SOA_LANES(ShadowLanes, ShadowQueue, PT_SHADOW_FIELDS)
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

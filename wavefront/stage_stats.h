@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
+
 namespace pt::wf {
 
 /// Intersection stages are split by ray coherence: camera rays and shadow
@@ -81,6 +83,7 @@ struct StageStats {
   }
 };
 
+inline namespace PT_ISA_NS {
 /// Adds the scope's wall time to one stage.
 class StageTimer {
  public:
@@ -115,4 +118,5 @@ class QueueTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -3,11 +3,13 @@
 // carry the index of their path.
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/ray.h"
 #include "kernels/math/ray_arrays.h"
 #include "soa.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// 20 bytes per path: identity (whose sampler the stages rebuild:
 /// sampler_lanes.h) and radiance so far. The throughput travels with the
@@ -77,4 +79,5 @@ struct ShadowQueue {
   }
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "kernels/simd/isa_namespace.h"
 #include "intersect_closest.h"
 #include "kernels/transport/surface.h"
 #include "streams.h"
@@ -14,6 +15,7 @@
 #include "wave_context.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// tb.blocked[i] = whether shadow ray i is blocked.
 template <class Tracer>
@@ -96,4 +98,5 @@ inline void add_found_emission(const WaveContext& ctx, const ShadowQueue& rays, 
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -7,12 +7,14 @@
 
 #include <cstddef>
 
+#include "kernels/simd/isa_namespace.h"
 #include "bvh/queue_scratch.h"
 #include "hit_point_order.h"
 #include "material_queues.h"
 #include "streams.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// What tracing a queue needs besides the queue: the queue tracer's scratch
 /// and the occlusion answers of a shadow queue.
@@ -54,4 +56,5 @@ struct WaveBuffers {
   }
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

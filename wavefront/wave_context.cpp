@@ -1,4 +1,5 @@
 // WaveContext setup.
+#include "kernels/simd/isa_namespace.h"
 #include "wave_context.h"
 
 #include <algorithm>
@@ -6,6 +7,7 @@
 #include "kernels/transport/shading.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 MaterialArrays::MaterialArrays(const Scene& s) {
   const bool other_kinds = s.material_kinds() > 1u;
@@ -76,4 +78,5 @@ WaveContext::WaveContext(const Scene& s, const Camera& c, const RenderSettings& 
   }
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/scene/camera.h"
 #include "kernels/transport/path_rules.h"
 #include "kernels/render/render_settings.h"
@@ -13,6 +14,7 @@
 #include "soa.h"
 
 namespace pt::wf {
+inline namespace PT_ISA_NS {
 
 /// Materials as SoA for gathers; one entry per scene material. The
 /// parameters of the non-diffuse kinds (glass, microfacet, ...) are filled
@@ -58,4 +60,5 @@ struct WaveContext {
   WaveContext(const Scene& s, const Camera& c, const RenderSettings& rs);
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::wf

@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/vec3.h"
 
 namespace pt {
@@ -35,9 +36,11 @@ struct BBox {
 };
 static_assert(sizeof(BBox) == 24);
 
+inline namespace PT_ISA_NS {
 inline BBox merge(BBox a, const BBox& b) {
   a.expand(b);
   return a;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

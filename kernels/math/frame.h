@@ -3,10 +3,12 @@
 // the normal. Templated over the lane type.
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/simd/lane_math.h"
 #include "kernels/math/vec3.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 template <class T>
 struct Vec3T {
@@ -44,4 +46,5 @@ inline float3 to_world(float3 n, float3 local) {
   return {w.x, w.y, w.z};
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -14,9 +14,11 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/simd/simd.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// 32-bit integer hash with low bias (C. Wellons' "lowbias32"): a bijection on
 /// uint32 whose output bits each flip with probability ~0.5 per input bit.
@@ -73,4 +75,5 @@ inline float random_uniform(uint32_t pixel_key, uint32_t sample_key, uint32_t bo
   return random_float<uint32_t, float>(pixel_key, sample_key, dimension_key(bounce, dim));
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/vec3.h"
 
 namespace pt {
@@ -41,6 +42,8 @@ struct Hit {
 };
 static_assert(sizeof(Hit) == 16);
 
+inline namespace PT_ISA_NS {
 inline uint32_t sphere_prim_id(uint32_t sphere_index) { return sphere_index | Hit::kSphereBit; }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

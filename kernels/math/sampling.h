@@ -5,10 +5,12 @@
 
 #include <numbers>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/simd/lane_math.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 inline constexpr float kPi = std::numbers::pi_v<float>;
 inline constexpr float kInvPi = 1.0f / kPi;
@@ -43,4 +45,5 @@ inline Vec3T<T> sample_uniform_sphere(T u1, T u2) {
   return {r * c, r * s, z};
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

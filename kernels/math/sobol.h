@@ -11,9 +11,11 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/random.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// The bits of x in reverse order (bit 0 <-> bit 31), for any lane type.
 template <class U>
@@ -30,7 +32,7 @@ inline uint32_t reverse_bits32(uint32_t x) {
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   return ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
 }
-#if defined(PT_ISA_NS)
+#if PT_PER_LEVEL
 inline vuintK reverse_bits32(vuintK x) { return reverse_bits(x); }  // byte shuffles (simd.h)
 #endif
 
@@ -123,4 +125,5 @@ inline void owen_sobol_2d(U index, U seed, F& u1, F& u2) {
   owen_sobol_2d_reversed<U, F>(reverse_bits32(index), seed, u1, u2);
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
+
 namespace pt {
 
 /// 12 bytes: x, y, z. Also used as linear RGB.
@@ -48,6 +50,7 @@ struct float3 {
 };
 static_assert(sizeof(float3) == 12);
 
+inline namespace PT_ISA_NS {
 constexpr float3 operator+(float3 a, float3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 constexpr float3 operator-(float3 a, float3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 constexpr float3 operator-(float3 a) { return {-a.x, -a.y, -a.z}; }
@@ -76,4 +79,5 @@ constexpr int max_axis(float3 a) { return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a
 /// Photometric illuminance of a linear RGB value (Rec. 709 weights), as CS184 uses it.
 constexpr float illuminance(float3 rgb) { return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z; }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
+
 namespace pt {
 
 /// Running sums of one pixel's sample illuminances.
@@ -18,6 +20,7 @@ struct PixelMoments {
   }
 };
 
+inline namespace PT_ISA_NS {
 /// Unbiased sample variance of the n samples, divided by n: the variance of
 /// their mean. 0 for n < 2.
 inline double variance_of_mean(const PixelMoments& m, uint32_t n) {
@@ -35,4 +38,5 @@ inline bool pixel_converged(const PixelMoments& m, uint32_t n, double tolerance)
   return interval <= tolerance * mean;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -22,6 +22,13 @@ struct Film {
   std::vector<float> variance;    ///< variance of each pixel's mean illuminance (s^2 / n)
 
   Film() = default;
+  // Defined once (film.cpp): a film is made and dropped by the engines of
+  // every instruction-set level, and its members are no level's own.
+  Film(const Film&);
+  Film(Film&&) noexcept;
+  Film& operator=(const Film&);
+  Film& operator=(Film&&) noexcept;
+  ~Film();
   Film(int w, int h, uint32_t max_spp)
       : width(w),
         height(h),

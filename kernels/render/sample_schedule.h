@@ -9,9 +9,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/render/render_settings.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 inline constexpr uint32_t kMaxPassSamples = 64;
 inline constexpr int kPixelTile = 8;
@@ -67,4 +69,5 @@ inline std::vector<uint32_t> tiled_pixel_order(const RenderSettings& rs) {
   return order;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

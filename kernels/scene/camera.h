@@ -4,6 +4,7 @@
 // t range, and an optional thin lens (lens radius 0: the pinhole).
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/simd/lane_math.h"
 #include "kernels/math/ray.h"
@@ -24,6 +25,7 @@ struct Camera {
 };
 static_assert(sizeof(Camera) == 72);
 
+inline namespace PT_ISA_NS {
 /// Ray through film position (sx, sy) in [0,1]^2, (0,0) = bottom-left corner.
 template <class T>
 inline Vec3T<T> camera_ray_direction(const Camera& c, T sx, T sy) {
@@ -65,4 +67,5 @@ inline Ray camera_ray(const Camera& c, float sx, float sy) {
   return {c.position, c.near_clip, float3{d.x, d.y, d.z}, c.far_clip};
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/ray.h"
 #include "kernels/math/sampling.h"
 #include "kernels/math/vec3.h"
@@ -36,6 +37,7 @@ struct SkyLight {
   float3 radiance;
 };
 
+inline namespace PT_ISA_NS {
 /// Lane-generic area-light sample towards point (px, py, pz): the unit
 /// direction, distance and solid-angle pdf. `facing` is true where the sample
 /// can send light to p (it lies on the emitting side and the pdf is finite).
@@ -89,4 +91,5 @@ inline Vec3T<T> sample_sky_direction(T u1, T u2) {
 /// Radiance the sky sends along a ray leaving in direction d (unit).
 inline float3 sky_radiance(const SkyLight& l, const float3& d) { return d.y > 0.0f ? l.radiance : float3{}; }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

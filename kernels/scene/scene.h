@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/bbox.h"
 #include "kernels/scene/environment_map.h"
 #include "kernels/scene/lights.h"
@@ -33,10 +34,12 @@ enum class MaterialKind : uint32_t {
 };
 inline constexpr uint32_t kMaterialKindCount = 5;
 
+inline namespace PT_ISA_NS {
 /// Whether a kind scatters into a single direction (no light sampling).
 constexpr bool is_delta(MaterialKind k) {
   return k == MaterialKind::kMirror || k == MaterialKind::kGlass || k == MaterialKind::kRefraction;
 }
+}  // namespace PT_ISA_NS
 
 /// Smallest Beckmann roughness rendered (smaller values are raised to it):
 /// keeps D(h) finite in float.
@@ -111,6 +114,7 @@ struct Scene {
   }
 };
 
+inline namespace PT_ISA_NS {
 /// Radiance a ray escaping the scene in unit direction d sees: the
 /// environment map's, else the sky's (the scene must have one of them).
 inline float3 sky_radiance(const Scene& s, const float3& d) {
@@ -119,6 +123,7 @@ inline float3 sky_radiance(const Scene& s, const float3& d) {
 
 /// Solid-angle pdf with which light sampling picks escape direction d.
 inline float sky_pdf(const Scene& s, const float3& d) { return s.environment ? s.environment->pdf(d) : kInv2Pi; }
+}  // namespace PT_ISA_NS
 
 /// Makes `map` the scene's sky: it replaces the file's sky light, if any.
 void set_environment(Scene& s, std::shared_ptr<const EnvironmentMap> map);

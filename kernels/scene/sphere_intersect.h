@@ -5,9 +5,11 @@
 
 #include <cmath>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/vec3.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Nearest root t with tmin <= t < tmax of |org + t dir - center| = radius.
 inline bool intersect_sphere(const float3& org, const float3& dir, float tmin, float tmax, const float3& center,
@@ -34,4 +36,5 @@ inline bool intersect_sphere(const float3& org, const float3& dir, float tmin, f
   return false;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -4,10 +4,12 @@
 // scalar ones do), so each lane answers with the scalar test's bits.
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/simd/simd.h"
 #include "sphere_intersect.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Per lane: whether a root lies in [tmin, tmax) and the nearest such root.
 template <class V>
@@ -39,4 +41,5 @@ PT_ALWAYS_INLINE SphereLaneHits<V> intersect_sphere_lanes(const V (&org)[3], con
   return {first | second, xsimd::select(first, lo, hi)};
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

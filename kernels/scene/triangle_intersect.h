@@ -6,10 +6,12 @@
 #include <cmath>
 #include <utility>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/ray.h"
 #include "kernels/math/vec3.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Moller-Trumbore. On a hit with tmin <= t < tmax writes t, u (weight of p1)
 /// and v (weight of p2) and returns true. Double-sided; a degenerate triangle
@@ -82,4 +84,5 @@ inline bool intersect_triangle_watertight(const float3& org, const WatertightRay
   return true;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

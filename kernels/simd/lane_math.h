@@ -8,9 +8,11 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/simd/simd.h"
 
 namespace pt::lane {
+inline namespace PT_ISA_NS {
 
 template <class T>
 inline constexpr bool is_scalar_v = std::is_arithmetic_v<T>;
@@ -169,4 +171,5 @@ inline T log(T x) {
   return e * T(0.693147180559945309f) + s * p;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::lane

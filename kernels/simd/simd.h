@@ -3,7 +3,7 @@
 // translation unit. K = lanes of the uniform (across-rays) stages: the widest
 // float batch of the instruction-set level the translation unit is compiled
 // for (SSE4.2 and NEON 4, AVX2 8, AVX-512 16). K-wide types exist only in code
-// compiled once per level (PT_ISA_NS is defined; kernels/simd/isa.h), so code built
+// compiled once per level (PT_PER_LEVEL; kernels/simd/isa_namespace.h), so code built
 // once for every CPU cannot pick up a width by accident. The operations xsimd
 // 8.1 lacks (mask extraction, compaction, horizontal min/max, a contraction
 // barrier, prefetch, denormal mode) are written here once per architecture.
@@ -13,6 +13,8 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+
+#include "kernels/simd/isa_namespace.h"
 
 // GCC 12's AVX-512 intrinsic headers start some vectors from an undefined
 // register (`__Y`), which its own uninitialized-use analysis then reports at
@@ -54,6 +56,7 @@ inline batch<float, neon64> sqrt<neon64>(batch<float, neon64> const& arg, requir
 #define PT_ALWAYS_INLINE inline __attribute__((always_inline))
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 #if defined(__x86_64__)
 using Arch4 = xsimd::sse4_2;
@@ -218,10 +221,12 @@ inline vfloat8 load_halves(const float* lo, const float* hi) {
 inline uint32_t movemask(vbool8 m) { return static_cast<uint32_t>(_mm256_movemask_ps(m)); }
 #endif
 
+}  // namespace PT_ISA_NS
 }  // namespace pt
 
-#if defined(PT_ISA_NS)
+#if PT_PER_LEVEL
 namespace pt {
+inline namespace PT_ISA_NS {
 
 using vfloatK = xsimd::batch<float>;
 using vintK = xsimd::batch<int32_t>;
@@ -285,12 +290,12 @@ namespace simd_detail {
 /// index in register 4 as "no index" and loads base[0] into every lane, so
 /// an image would change with the compiler's choice of register. The
 /// clobber keeps every operand out of ymm4; the array operand tells the
-/// compiler what the gather reads.
+/// compiler what the gather may read (any element an int32 index reaches).
 inline __m256 gather8(const float* base, __m256i index) {
   __m256 mask = _mm256_castsi256_ps(_mm256_set1_epi32(-1)), out;
   asm("vgatherdps %[mask], (%[base],%[index],4), %[out]"
       : [out] "=&x"(out), [mask] "+&x"(mask)
-      : [base] "r"(base), [index] "x"(index), "m"(*reinterpret_cast<const float(*)[]>(base))
+      : [base] "r"(base), [index] "x"(index), "m"(*reinterpret_cast<const float(*)[size_t(1) << 31]>(base))
       : "xmm4");
   return out;
 }
@@ -298,7 +303,7 @@ inline __m256i gather8(const int32_t* base, __m256i index) {
   __m256i mask = _mm256_set1_epi32(-1), out;
   asm("vpgatherdd %[mask], (%[base],%[index],4), %[out]"
       : [out] "=&x"(out), [mask] "+&x"(mask)
-      : [base] "r"(base), [index] "x"(index), "m"(*reinterpret_cast<const int32_t(*)[]>(base))
+      : [base] "r"(base), [index] "x"(index), "m"(*reinterpret_cast<const int32_t(*)[size_t(1) << 31]>(base))
       : "xmm4");
   return out;
 }
@@ -336,28 +341,31 @@ inline vuintK gather(const uint32_t* base, vintK index) {
 namespace simd_detail {
 /// Per 128-bit block, the transposition of four records (x, y, z, -): out
 /// lane 4j + q of x, y, z comes from block j of a[q].
-template <class R>
-inline void transpose_records3(const R (&a)[4], vfloatK out[3]) {
-  if constexpr (sizeof(R) == 64) {
-    const __m512 t0 = _mm512_unpacklo_ps(a[0], a[1]), t1 = _mm512_unpackhi_ps(a[0], a[1]);
-    const __m512 t2 = _mm512_unpacklo_ps(a[2], a[3]), t3 = _mm512_unpackhi_ps(a[2], a[3]);
-    out[0] = _mm512_castpd_ps(_mm512_unpacklo_pd(_mm512_castps_pd(t0), _mm512_castps_pd(t2)));
-    out[1] = _mm512_castpd_ps(_mm512_unpackhi_pd(_mm512_castps_pd(t0), _mm512_castps_pd(t2)));
-    out[2] = _mm512_castpd_ps(_mm512_unpacklo_pd(_mm512_castps_pd(t1), _mm512_castps_pd(t3)));
-  } else if constexpr (sizeof(R) == 32) {
-    const __m256 t0 = _mm256_unpacklo_ps(a[0], a[1]), t1 = _mm256_unpackhi_ps(a[0], a[1]);
-    const __m256 t2 = _mm256_unpacklo_ps(a[2], a[3]), t3 = _mm256_unpackhi_ps(a[2], a[3]);
-    out[0] = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
-    out[1] = _mm256_castpd_ps(_mm256_unpackhi_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
-    out[2] = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
-  } else {
-    const __m128 t0 = _mm_unpacklo_ps(a[0], a[1]), t1 = _mm_unpackhi_ps(a[0], a[1]);
-    const __m128 t2 = _mm_unpacklo_ps(a[2], a[3]), t3 = _mm_unpackhi_ps(a[2], a[3]);
-    out[0] = _mm_movelh_ps(t0, t2);
-    out[1] = _mm_movehl_ps(t2, t0);
-    out[2] = _mm_movelh_ps(t1, t3);
-  }
+#if XSIMD_WITH_AVX512F
+inline void transpose_records3(const __m512 (&a)[4], vfloatK out[3]) {
+  const __m512 t0 = _mm512_unpacklo_ps(a[0], a[1]), t1 = _mm512_unpackhi_ps(a[0], a[1]);
+  const __m512 t2 = _mm512_unpacklo_ps(a[2], a[3]), t3 = _mm512_unpackhi_ps(a[2], a[3]);
+  out[0] = _mm512_castpd_ps(_mm512_unpacklo_pd(_mm512_castps_pd(t0), _mm512_castps_pd(t2)));
+  out[1] = _mm512_castpd_ps(_mm512_unpackhi_pd(_mm512_castps_pd(t0), _mm512_castps_pd(t2)));
+  out[2] = _mm512_castpd_ps(_mm512_unpacklo_pd(_mm512_castps_pd(t1), _mm512_castps_pd(t3)));
 }
+#elif XSIMD_WITH_AVX
+inline void transpose_records3(const __m256 (&a)[4], vfloatK out[3]) {
+  const __m256 t0 = _mm256_unpacklo_ps(a[0], a[1]), t1 = _mm256_unpackhi_ps(a[0], a[1]);
+  const __m256 t2 = _mm256_unpacklo_ps(a[2], a[3]), t3 = _mm256_unpackhi_ps(a[2], a[3]);
+  out[0] = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
+  out[1] = _mm256_castpd_ps(_mm256_unpackhi_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
+  out[2] = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
+}
+#else
+inline void transpose_records3(const __m128 (&a)[4], vfloatK out[3]) {
+  const __m128 t0 = _mm_unpacklo_ps(a[0], a[1]), t1 = _mm_unpackhi_ps(a[0], a[1]);
+  const __m128 t2 = _mm_unpacklo_ps(a[2], a[3]), t3 = _mm_unpackhi_ps(a[2], a[3]);
+  out[0] = _mm_movelh_ps(t0, t2);
+  out[1] = _mm_movehl_ps(t2, t0);
+  out[2] = _mm_movelh_ps(t1, t3);
+}
+#endif
 }  // namespace simd_detail
 #endif
 
@@ -537,5 +545,6 @@ inline float reduce_max_k(vfloatK v) {
 #endif
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt
-#endif  // PT_ISA_NS
+#endif  // PT_PER_LEVEL

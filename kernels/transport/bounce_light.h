@@ -7,11 +7,13 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/transport/path_rules.h"
 #include "kernels/transport/shading.h"
 #include "kernels/transport/surface.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Radiance (before the path's throughput) that bounce ray `vertex`, sampled
 /// with solid-angle pdf `bsdf_pdf` or from a delta lobe, brings from its
@@ -27,4 +29,5 @@ inline float3 light_found_by_bounce(const Scene& s, const RenderSettings& rs, co
   return L;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

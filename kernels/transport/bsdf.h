@@ -12,11 +12,13 @@
 // with the two-term air-conductor approximation. docs/rendering.md.
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/simd/lane_math.h"
 #include "kernels/math/sampling.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 template <class T>
 inline Vec3T<T> local_of(const Vec3T<T>& v, const Vec3T<T>& n) {
@@ -245,4 +247,5 @@ inline MicrofacetSampleT<T> sample_microfacet(const ConductorT<T>& m, const Vec3
   return s;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

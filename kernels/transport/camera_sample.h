@@ -3,12 +3,14 @@
 // lens for a thin-lens camera. Pixel (0, 0) is top-left.
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/scene/camera.h"
 #include "kernels/transport/path_sampler.h"
 #include "kernels/render/render_settings.h"
 #include "kernels/transport/sample_dimensions.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 inline uint32_t pixel_index(const RenderSettings& rs, int x, int y) {
   return static_cast<uint32_t>(y) * static_cast<uint32_t>(rs.width) + static_cast<uint32_t>(x);
@@ -26,4 +28,5 @@ inline Ray jittered_camera_ray(const Camera& c, const RenderSettings& rs, int x,
   return {to_float3(org), c.near_clip, to_float3(dir), c.far_clip};
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/scene/lights.h"
 #include "kernels/transport/path_sampler.h"
@@ -23,6 +24,7 @@
 #include "kernels/transport/surface.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// What direct lighting needs of a shading point (a lane's, or one path's).
 template <class T>
@@ -255,4 +257,5 @@ inline ShadingPointT<float> shading_point(const SurfacePoint& sp, bool reflects)
   return {vec3t(sp.p), vec3t(sp.ng), vec3t(sp.ns), sp.offset, reflects};
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

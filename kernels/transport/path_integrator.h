@@ -10,6 +10,7 @@
 // or traversal.
 #pragma once
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/render/render_settings.h"
 #include "kernels/render/render_stats.h"
 #include "kernels/scene/scene.h"
@@ -22,6 +23,7 @@
 #include "kernels/transport/surface_bsdf.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// One path at a time through any tracer with intersect(ray, hit, tests)
 /// and occluded(ray, tests).
@@ -114,4 +116,5 @@ class PathIntegrator {
   bool sky_visible_;
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

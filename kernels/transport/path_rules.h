@@ -11,11 +11,13 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/render/render_settings.h"
 #include "kernels/scene/scene.h"
 #include "kernels/transport/shading.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 class PathRules {
  public:
@@ -61,4 +63,5 @@ class PathRules {
   bool final_bounce_;
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -7,11 +7,13 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/random.h"
 #include "kernels/render/render_settings.h"
 #include "kernels/math/sobol.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 template <class U, class F>
 struct PathSamplerT {
@@ -44,4 +46,5 @@ struct PathSamplerT {
 
 using PathSampler = PathSamplerT<uint32_t, float>;
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -6,7 +6,10 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
+
 namespace pt::dims {
+inline namespace PT_ISA_NS {
 
 inline constexpr uint32_t kCameraBounce = 0;
 inline constexpr uint32_t kPixelJitter = 0;  ///< 2 dims at bounce 0
@@ -20,4 +23,5 @@ inline constexpr uint32_t kDirectFirst = 3;  ///< 2 dims per direct-light sample
 /// lights, point, directional, sky) uses dims (light_dim(k), light_dim(k) + 1).
 constexpr uint32_t light_dim(uint32_t k) { return kDirectFirst + 2 * k; }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt::dims

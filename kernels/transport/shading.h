@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/render/render_settings.h"
 #include "kernels/scene/scene.h"
 #include "kernels/scene/lights.h"
@@ -14,6 +15,7 @@
 #include "kernels/transport/surface.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Whether rays that escape the scene see its sky: always an environment map
 /// (the course renderer shows it), the file's sky unless --cs184-compat hides
@@ -110,4 +112,5 @@ inline float3 light_found_after_delta(const Scene& s, const RenderSettings& rs, 
 /// The assignment's normal shading: n * 0.5 + 0.5 of the stored shading normal.
 inline float3 normal_shading_color(const SurfacePoint& sp) { return sp.raw_ns * 0.5f + float3(0.5f); }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

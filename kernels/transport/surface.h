@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/math/frame.h"
 #include "kernels/simd/lane_math.h"
 #include "kernels/math/ray.h"
@@ -14,6 +15,7 @@
 #include "kernels/math/vec3.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// Relative size of a hit point's rounding error we push new origins past:
 /// 2^-19 of the coordinates' magnitude, about 8x the error bound of the
@@ -133,4 +135,5 @@ inline float3 emitted_radiance(const Scene& s, const SurfacePoint& sp, const Ray
   return m.emission;
 }
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "kernels/simd/isa_namespace.h"
 #include "kernels/transport/bsdf.h"
 #include "kernels/transport/direct_light.h"
 #include "kernels/transport/path_sampler.h"
@@ -16,6 +17,7 @@
 #include "kernels/transport/surface.h"
 
 namespace pt {
+inline namespace PT_ISA_NS {
 
 /// The next direction of a path and what it does to the throughput.
 struct BsdfScatter {
@@ -89,4 +91,5 @@ class SurfaceBsdf {
   Vec3T<float> wo_;
 };
 
+}  // namespace PT_ISA_NS
 }  // namespace pt

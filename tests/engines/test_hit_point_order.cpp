@@ -26,6 +26,14 @@ namespace {
 
 #define PT_EXPECT_FIELD(T, name) EXPECT_EQ(out.name[k], in.name[from]) << #name << " of item " << k;
 
+/// The level's sort of a ray queue and its hits (lane_probes.h).
+void sort_by_hit_point(const test::LaneProbes& probes, const BBox& bounds, wf::RayQueue& rays, wf::HitQueue& hits) {
+  test::StreamColumns ray_columns = test::columns_of(rays), hit_columns = test::columns_of(hits);
+  probes.sort_by_hit_point(bounds, ray_columns, hit_columns);
+  test::from_columns(ray_columns, rays);
+  test::from_columns(hit_columns, hits);
+}
+
 /// The 8 x 8 x 8 cell of point p in [0, 8)^3 (outside: clamped), Morton order.
 uint32_t expected_cell(float x, float y, float z) {
   auto axis = [](float v) { return static_cast<uint32_t>(std::clamp(v, 0.0f, 7.0f)); };
@@ -39,7 +47,6 @@ TEST(HitPointOrder, IsAStablePermutationByCellInMortonOrderWithMissesLast) {
   const test::LaneProbes& probes = test::lane_probes(active_isa());
   const BBox bounds{{0.0f, 0.0f, 0.0f}, {8.0f, 8.0f, 8.0f}};  // cells of edge 1
   std::mt19937 rng(11);
-  wf::HitPointOrder scratch;  // reused, as a thread's wave buffers are
   auto quarter = [&](int lo, int hi) {
     return static_cast<float>(std::uniform_int_distribution<int>(lo, hi)(rng)) / 4;
   };
@@ -75,7 +82,7 @@ TEST(HitPointOrder, IsAStablePermutationByCellInMortonOrderWithMissesLast) {
     std::iota(expected.begin(), expected.end(), 0u);
     std::stable_sort(expected.begin(), expected.end(), [&](uint32_t a, uint32_t b) { return key[a] < key[b]; });
 
-    probes.sort_by_hit_point(bounds, rays, hits, scratch);
+    sort_by_hit_point(probes, bounds, rays, hits);  // one scratch for every n, as a thread's wave buffers keep theirs
     ASSERT_EQ(rays.size, n);
     ASSERT_EQ(hits.size, n);
     for (size_t k = 0; k < n; ++k) {
@@ -110,8 +117,7 @@ TEST(HitPointOrder, AnEmptyOrFlatSceneKeepsTheQueue) {
       hits.t[i] = 1.0f;
       hits.prim[i] = 7;
     }
-    wf::HitPointOrder scratch;
-    probes.sort_by_hit_point(bounds, rays, hits, scratch);
+    sort_by_hit_point(probes, bounds, rays, hits);
     ASSERT_EQ(rays.size, n);
     const bool flat = bounds.upper.x > bounds.lower.x;
     for (size_t k = 0; k + 1 < n; ++k) {

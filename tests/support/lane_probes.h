@@ -8,8 +8,7 @@
 
 #include "kernels/math/bbox.h"
 #include "kernels/simd/isa.h"
-#include "wavefront/hit_point_order.h"
-#include "wavefront/streams.h"
+#include "support/stream_columns.h"
 
 namespace pt::test {
 
@@ -44,11 +43,14 @@ struct LaneProbes {
   float (*reduce_min)(const float* in);
   float (*reduce_max)(const float* in);
   /// Stream compaction as the stages do it (soa_lanes.h): for each chunk c of
-  /// K items of `in`, the lanes set in masks[c] are appended to `out`.
-  void (*compact_rays)(const wf::RayQueue& in, const uint32_t* masks, wf::RayQueue& out);
-  void (*compact_shadows)(const wf::ShadowQueue& in, const uint32_t* masks, wf::ShadowQueue& out);
-  /// wf::sort_by_hit_point at this level.
-  void (*sort_by_hit_point)(const BBox& bounds, wf::RayQueue& rays, wf::HitQueue& hits, wf::HitPointOrder& scratch);
+  /// K items of `in`, the lanes set in masks[c] are appended to the result.
+  /// Rays and shadow rays as columns (stream_columns.h).
+  StreamColumns (*compact_rays)(const StreamColumns& in, const uint32_t* masks);
+  StreamColumns (*compact_shadows)(const StreamColumns& in, const uint32_t* masks);
+  /// wf::sort_by_hit_point at this level, of a ray queue and its hits as
+  /// columns, with one scratch (wf::HitPointOrder) kept from call to call as
+  /// a thread's wave buffers keep theirs.
+  void (*sort_by_hit_point)(const BBox& bounds, StreamColumns& rays, StreamColumns& hits);
 };
 
 /// The probes of a compiled level (IsaError otherwise).

@@ -73,8 +73,22 @@ float min_of(const float* in) { return reduce_min_k(vfloatK::load_unaligned(in))
 float max_of(const float* in) { return reduce_max_k(vfloatK::load_unaligned(in)); }
 
 template <class Stream>
-void compact(const Stream& in, const uint32_t* masks, Stream& out) {
+StreamColumns compact(const StreamColumns& columns, const uint32_t* masks) {
+  Stream in, out;
+  from_columns(columns, in);
   for (size_t i0 = 0; i0 < in.size; i0 += kLanes) wf::append_lanes(out, masks[i0 / kLanes], wf::load_lanes(in, i0));
+  return columns_of(out);
+}
+
+void sort_by_hit_point(const BBox& bounds, StreamColumns& ray_columns, StreamColumns& hit_columns) {
+  static wf::HitPointOrder scratch;
+  wf::RayQueue rays;
+  wf::HitQueue hits;
+  from_columns(ray_columns, rays);
+  from_columns(hit_columns, hits);
+  wf::sort_by_hit_point(bounds, rays, hits, scratch);
+  ray_columns = columns_of(rays);
+  hit_columns = columns_of(hits);
 }
 
 }  // namespace
@@ -99,6 +113,6 @@ const test::LaneProbes kLaneProbes = {
     .reduce_max = test::max_of,
     .compact_rays = test::compact<wf::RayQueue>,
     .compact_shadows = test::compact<wf::ShadowQueue>,
-    .sort_by_hit_point = wf::sort_by_hit_point,
+    .sort_by_hit_point = test::sort_by_hit_point,
 };
 }  // namespace pt::PT_ISA_NS
