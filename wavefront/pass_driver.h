@@ -62,7 +62,8 @@ inline Accumulation initial_accumulation(const RenderSettings& rs, const RenderC
 /// `pixels` and adds them, in order, to acc.at(pixel); it is
 /// called concurrently for disjoint pixel sets; a chunk is never interrupted,
 /// so after a cancel every pixel holds whole chunks. control.on_pass runs
-/// after each completed pass; control.checkpoint also on cancel.
+/// after each completed pass; control.on_interrupt once after a cancel, with
+/// the state reached.
 template <class Chunk>
 void run_passes(const RenderSettings& rs, size_t paths_per_chunk, const RenderControl& control, Accumulation& acc,
                 RenderStats& total, Chunk&& chunk) {
