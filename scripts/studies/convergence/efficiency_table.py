@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Markdown tables of the convergence runs, one column per scene:
 - efficiency 1 / (MSE x time), the median over each method's last three
   doublings (its highest sample counts), relative to the baseline method;

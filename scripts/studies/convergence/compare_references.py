@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Checks that two references of the same scene and settings, rendered by
 different samplers, agree within their noise: a bias in either (for example
 a sampler whose dimensions are correlated) shows as a non-zero mean

@@ -4,16 +4,19 @@
 # convergence mode (error against a reference at 1, 2, 4, ... spp, with wall
 # time), draws one chart per scene with Debian's python3 + matplotlib and writes
 # the efficiency table; full runs also write the memory table of every shared
-# scene. Full runs write docs/ and their tables in docs/speed_and_accuracy.md and docs/architecture.md; --quick
-# (small images, few samples: a smoke test) writes only build/convergence_quick/.
+# scene. Full runs write their data with the host record (results.py record) to
+# results/studies/convergence/, the charts to docs/ and the tables into
+# docs/speed_and_accuracy.md and docs/architecture.md; --quick (small images,
+# few samples: a smoke test) writes only build/convergence_quick/.
 #
-# Usage: bash scripts/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
+# Usage: bash scripts/studies/convergence/run_all.sh [--quick] [--scenes "CBbunny bunny"]
 #        [--methods FILE --out DIR --baseline NAME]   (a study of other methods, written to DIR only)
 # Not part of CI: a full run takes about 8 minutes on 2 cores with cached
 # references (each new 320x240 reference takes 5-10 minutes).
 set -euo pipefail
-cd "$(dirname "$0")/../.."
-here=scripts/convergence
+cd "$(dirname "$0")/../../.."
+here=scripts/studies/convergence
+given="$*"   # for the results record's command
 
 quick=0
 scenes="CBspheres_lambertian CBbunny CBempty bunny CBgems CBcoil CBspheres_microfacet_al_ag"
@@ -34,25 +37,22 @@ done
 if [ "$quick" = 1 ]; then
   width=80 height=60 max_spp=64 ref_spp=2048 out=build/convergence_quick csv_dir=build/convergence_quick/csv
 else
-  width=320 height=240 max_spp=512 ref_spp=16384 out=docs csv_dir=build/convergence/csv
+  width=320 height=240 max_spp=512 ref_spp=16384 out=results/studies/convergence csv_dir=build/convergence/csv
 fi
-if [ -n "$study_out" ]; then out=$study_out csv_dir=$study_out/csv; fi
+charts=$out
+[ "$out" = results/studies/convergence ] && charts=docs
+if [ -n "$study_out" ]; then out=$study_out charts=$study_out csv_dir=$study_out/csv; fi
 depth=5 threads=2
 scene_dir=../shared/scenes/cs184
-python=/usr/bin/python3   # Debian's interpreter, which has python3-matplotlib
+python=/usr/bin/python3   # Debian's interpreter, which has python3-matplotlib (scripts/README.md)
 mkdir -p "$out" "$csv_dir"
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build build -j "$(nproc)" --target pathtracer
 pathtracer=build/cli/pathtracer
 
-run_log="$out/convergence_run.txt"
-{
-  echo "commit: $(git rev-parse --short HEAD) $(git diff --quiet -- . ':!docs' ':!README.md' && echo clean || echo modified)"
-  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
-  echo "settings: ${width}x${height}, -m $depth, -l 1, -t $threads, 1..$max_spp spp; references $ref_spp spp"
-  echo "load at start: $(cut -d' ' -f1-3 /proc/loadavg)"
-} > "$run_log"
+settings="${width}x${height}, -m $depth, -l 1, -t $threads, 1..$max_spp spp; references $ref_spp spp"
+load_start=$(cut -d' ' -f1 /proc/loadavg)
 
 method_lines() { grep -v '^\s*#' "$methods_file" | grep -v '^\s*$'; }
 
@@ -72,9 +72,13 @@ for scene in $scenes; do
     tail -n +2 "$csv" | sed "s/^/$family,/" >> "$combined.tmp"
   done < <(method_lines)
   mv "$combined.tmp" "$combined"
-  "$python" "$here/plot_convergence.py" "$combined" "$ref" "$out/convergence_$scene.png" "$baseline"
+  "$python" "$here/plot_convergence.py" "$combined" "$ref" "$charts/convergence_$scene.png" "$baseline"
 done
-echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$run_log"
+files=()
+for scene in $scenes; do files+=("convergence_$scene.csv"); done
+"$python" scripts/results.py record "$out/run.json" --kind study --command "bash $here/run_all.sh $given" \
+  --title "Speed against accuracy: error against time per method and scene" --files "${files[@]}" efficiency.md memory.md \
+  --notes "$settings; load $load_start at the start, $(cut -d' ' -f1 /proc/loadavg) at the end. Charts: $charts/."
 
 tables=("$python" "$here/efficiency_table.py" --spp-target 64 --reference-spp "$ref_spp" --baseline "$baseline")
 for scene in $scenes; do

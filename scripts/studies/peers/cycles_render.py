@@ -46,6 +46,9 @@ import bpy
 import mathutils
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))  # scripts/: ptlib
+from ptlib.images import write_pfm  # noqa: E402
+
 
 def to_blender(v):
     """This renderer's world (Y up) to Blender's (Z up): +90 degrees about X."""
@@ -363,13 +366,9 @@ def configure(doc, args):
     sc.render.image_settings.exr_codec = "NONE"
 
 
-def write_pfm(path, rgba_bottom_up, width, height):
-    """Little-endian RGB PFM; Blender's pixels and PFM both start at the bottom row."""
-    rgb = np.ascontiguousarray(rgba_bottom_up.reshape(height, width, 4)[:, :, :3], dtype="<f4")
-    with open(path + ".tmp", "wb") as f:
-        f.write(f"PF\n{width} {height}\n-1.0\n".encode())
-        f.write(rgb.tobytes())
-    os.replace(path + ".tmp", path)
+def save_pfm(path, rgba_bottom_up, width, height):
+    """Blender's pixels (RGBA, bottom row first) as a linear RGB PFM (ptlib.images.write_pfm takes the top row first)."""
+    write_pfm(path, rgba_bottom_up.reshape(height, width, 4)[::-1, :, :3])
 
 
 def render(out_dir, spp, repeats, doc):
@@ -386,7 +385,7 @@ def render(out_dir, spp, repeats, doc):
     pixels = np.empty(doc["width"] * doc["height"] * 4, dtype=np.float32)
     img.pixels.foreach_get(pixels)
     bpy.data.images.remove(img)
-    write_pfm(os.path.join(out_dir, f"cycles_s{spp}.pfm"), pixels, doc["width"], doc["height"])
+    save_pfm(os.path.join(out_dir, f"cycles_s{spp}.pfm"), pixels, doc["width"], doc["height"])
     os.remove(exr)
     return seconds
 

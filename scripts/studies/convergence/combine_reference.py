@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Combines the two independent halves of a reference (same settings,
 different seeds) into the reference: their average (PFM), the per-pixel
 variance of that average from the halves' own variance images ((v1 + v2) / 4,
@@ -14,15 +15,7 @@ import sys
 
 import numpy as np
 
-from convergence_data import read_pfm, variance_path
-
-
-def write_pfm(path, image):
-    """image: (height, width, 3), top row first."""
-    h, w, _ = image.shape
-    with open(path, "wb") as f:
-        f.write(f"PF\n{w} {h}\n-1.0\n".encode())
-        f.write(np.ascontiguousarray(image[::-1], dtype="<f4").tobytes())
+from convergence_data import read_pfm, variance_path, write_pfm
 
 
 def main():

@@ -1,15 +1,16 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The course renderer's image next to this renderer's default and
 --cs184-compat renders of the same settings, and the ratio of the default to
 the course's per 8x8 block: docs/course_quirks_<scene>.png, and one line of
 numbers per image.
 
-    /usr/bin/python3 scripts/course/compare_course.py COURSE.png DEFAULT.pfm COMPAT.pfm OUT.png
+    /usr/bin/python3 scripts/studies/course/compare_course.py COURSE.png DEFAULT.pfm COMPAT.pfm OUT.png
 
 Decoding of the course's PNG: each channel is floor(255 (L sqrt 2)^(1/2.2)),
 so a code v stands for [v, v + 1) / 255 and is decoded at its middle (0 at 0).
 The 48 x 5 watermark and saturated pixels are left out of the statistics.
 """
+import os
 import sys
 
 import matplotlib
@@ -17,21 +18,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from PIL import Image  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))  # scripts/: ptlib
+from ptlib.images import read_pfm, read_png  # noqa: E402
 
 LUMA = np.array([0.2126, 0.7152, 0.0722])
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        assert f.readline().strip() == b"PF"
-        w, h = map(int, f.readline().split())
-        f.readline()
-        return np.frombuffer(f.read(), dtype="<f4").reshape(h, w, 3)[::-1].astype(np.float64)
-
-
 def decode_course(path):
-    codes = np.asarray(Image.open(path).convert("RGB")).astype(np.float64)
+    codes = read_png(path)[:, :, :3].astype(np.float64)
     linear = np.where(codes == 0, 0.0, ((codes + 0.5) / 255.0) ** 2.2 / np.sqrt(2.0))
     mask = ~(codes >= 255).any(axis=2)
     mask[-5:, :48] = False
@@ -56,7 +51,7 @@ def block_ratio(a, b, mask, block=8):
 
 def main(course_png, default_pfm, compat_pfm, out_png):
     course, mask = decode_course(course_png)
-    default, compat = read_pfm(default_pfm), read_pfm(compat_pfm)
+    default, compat = read_pfm(default_pfm).astype(np.float64), read_pfm(compat_pfm).astype(np.float64)
     y = lambda img: img @ LUMA  # noqa: E731
     for name, img in (("default", default), ("compat", compat)):
         print(f"{name}: mean illuminance / course's {y(img)[mask].mean() / y(course)[mask].mean():.4f}")
@@ -76,4 +71,6 @@ def main(course_png, default_pfm, compat_pfm, out_png):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) != 5:
+        sys.exit(__doc__)
     main(*sys.argv[1:5])

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Compares this renderer with Cycles on one scene, from what cycles.sh made:
 
   compare_cycles.py DIR REFERENCE.pfm [--chart OUT.png] [--json OUT.json]
@@ -26,8 +27,9 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "convergence"))
-from convergence_data import read_pfm  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))  # scripts/: ptlib
+from ptlib.images import read_pfm  # noqa: E402
+from ptlib.paired import Summary  # noqa: E402
 
 BLOCK = 8
 TOLERANCE = 0.005
@@ -102,16 +104,16 @@ def main():
             d["cycles_seconds"].append(min(t))
             d["ours_seconds"].append(ours_t)
             d["ratio"].append(min(t) / ours_t if ours_t else 0.0)
-    result["equal_error"] = {
-        spp: {
+    result["equal_error"] = {}
+    for spp, d in sorted(per_spp.items()):
+        ratio = Summary(d["ratio"])  # each round's Cycles time over ours: the rounds alternate who goes first
+        result["equal_error"][spp] = {
             "cycles_mse": statistics.median(d["mse"]),
             "cycles_seconds": statistics.median(d["cycles_seconds"]),
             "ours_seconds": statistics.median([t for t in d["ours_seconds"] if t] or [float("nan")]),
-            "ratio_median": statistics.median(d["ratio"]),
-            "ratio_range": [min(d["ratio"]), max(d["ratio"])],
+            "ratio_median": ratio.median,
+            "ratio_range": [ratio.low, ratio.high],
         }
-        for spp, d in sorted(per_spp.items())
-    }
     scene = result["scene"]
     if "agreement" in result:
         a = result["agreement"]

@@ -1,7 +1,10 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Predicted parallel efficiency of `mpirun -np N pathtracer` for a 1920x1080
 4096-spp CBbunny render, by a discrete-event simulation of the tile protocol
 (distributed/mpi_render.cpp) fed with figures measured by measure_tiles.sh.
+
+  scaling_model.py [MEASUREMENTS.json]   the tables (default out/mpi/measurements.json)
+  scaling_model.py measure ...           what measure_tiles.sh calls to write MEASUREMENTS.json
 
 The model (docs/scaling_out.md):
 - Every rank is one core (-t 1), as fast as the measuring machine's core;
@@ -20,11 +23,21 @@ The model (docs/scaling_out.md):
 - Efficiency(N) = T(1) / (N * T(N)), with T(1) one process rendering every
   tile without MPI.
 """
+import argparse
 import heapq
 import json
 import math
+import os
+import shlex
+import statistics
 import struct
+import subprocess
 import sys
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))  # scripts/: ptlib
+from ptlib import results  # noqa: E402
+from ptlib.paired import run_rounds  # noqa: E402
 
 LATENCY = 50e-6           # s, one way, per message (cluster Ethernet; plus the 0.2 ms polling of rank 0)
 POLL = 100e-6             # s, mean wait of rank 0's polling thread (it sleeps 0.2 ms between polls)
@@ -91,7 +104,40 @@ def simulate(costs, pixels, ranks, speeds, startup):
     return end, server_busy / max(end - startup, 1e-9)
 
 
+MPIRUN = "mpirun --oversubscribe --mca pml ob1 --mca btl self,vader"  # one machine: shared memory only
+
+
+def seconds(command):
+    start = time.perf_counter()
+    subprocess.run(shlex.split(command), check=True, stdout=subprocess.DEVNULL)
+    return time.perf_counter() - start
+
+
+def measure_main(argv):
+    """measure SPP PATHTRACER SCENE OUT --command CMD: the start-ups (5 alternating pairs of a process's and
+    of mpirun's) and the tile sets measure_tiles.sh wrote, as a results record with the host."""
+    p = argparse.ArgumentParser(prog="scaling_model.py measure")
+    p.add_argument("spp", type=int)
+    p.add_argument("pathtracer")
+    p.add_argument("scene")
+    p.add_argument("out")
+    p.add_argument("--command", required=True)
+    a = p.parse_args(argv)
+    commands = {"process": f"{a.pathtracer} {a.scene} -r 1 1 -s 1 -t 1 -q -f out/mpi/startup.png",
+                "mpirun": f"{MPIRUN} -np 2 {a.pathtracer} --list-isa"}
+    runs = run_rounds(5, list(commands), lambda what, r: seconds(commands[what]))
+    rec = results.new("mpi-tiles", "Tile times and start-ups for the scaling model", a.command, "",
+                      spp=a.spp, process_startup_s=statistics.median(runs["process"]),
+                      mpirun_startup_2_ranks_s=statistics.median(runs["mpirun"]),
+                      tile_sets={t: f"out/mpi/tiles_{t}.tiles" for t in (16, 32, 64, 128)})
+    results.save(a.out, rec)
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] in ("-h", "--help"):
+        sys.exit(__doc__)
+    if len(sys.argv) > 1 and sys.argv[1] == "measure":
+        return measure_main(sys.argv[2:])
     meas = json.load(open(sys.argv[1] if len(sys.argv) > 1 else "out/mpi/measurements.json"))
     spp = meas["spp"]
     sets = {int(k): read_tile_set(v) for k, v in meas["tile_sets"].items()}
@@ -101,7 +147,8 @@ def main():
     mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
     overhead = max(0.0, sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs))
     startup = meas["process_startup_s"]
-    print(f"Measured on {meas['cpu']}: CBbunny 1920x1080 at {spp} spp, one thread; process start-up (load + BVH) "
+    host = meas["host"]
+    print(f"Measured on {host['cpu']} ({host['cores']} cores), commit {meas['commit']}: CBbunny 1920x1080 at {spp} spp, one thread; process start-up (load + BVH) "
           f"{startup:.3f} s, mpirun start-up with 2 ranks {meas['mpirun_startup_2_ranks_s']:.3f} s, "
           f"per-tile overhead {overhead * 1e3:.2f} ms")
     print()

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Draws one scene's convergence chart: RMSE against the reference (log)
 over wall time (log), one line per method, points at each doubling of the
 samples per pixel. Horizontal guides: the baseline method's 64-spp RMSE (the

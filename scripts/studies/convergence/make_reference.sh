@@ -9,7 +9,7 @@
 #
 # Usage: make_reference.sh SCENE.dae WIDTH HEIGHT MAX_DEPTH SPP [SEED] [THREADS]
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+cd "$(dirname "$0")/../../.."
 
 if [ $# -lt 5 ]; then
   echo "usage: $0 SCENE.dae WIDTH HEIGHT MAX_DEPTH SPP [SEED] [THREADS]" >&2
@@ -41,7 +41,7 @@ for half in 1 2; do
   "${cmd[@]}"
   echo "command: ${cmd[*]}" >> "$dir/$key.log"
 done
-/usr/bin/python3 scripts/convergence/combine_reference.py "$dir/$key.half1.pfm" "$dir/$key.half2.pfm" "$out"
+/usr/bin/python3 scripts/studies/convergence/combine_reference.py "$dir/$key.half1.pfm" "$dir/$key.half2.pfm" "$out"
 {
   echo "seconds: $(( $(date +%s) - start ))"
   echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"

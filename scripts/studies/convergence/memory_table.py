@@ -1,10 +1,11 @@
+#!/usr/bin/python3
 """Memory per shared scene: runs `pathtracer --memory` on every public CS184
 scene at 480x360 and prints a markdown table of bytes per triangle (scene
 arrays, BVH: allocated / in use), the wavefront's queues per thread, bytes
 per pixel of everything held per pixel, the total held, and the peak
 resident set size of each engine as the kernel accounts it (wait4).
 
-Usage: /usr/bin/python3 scripts/convergence/memory_table.py [PATHTRACER] [SCENE_DIR]"""
+Usage: /usr/bin/python3 scripts/studies/convergence/memory_table.py [PATHTRACER] [SCENE_DIR]"""
 
 import os
 import re

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Splits a ray file (trace_rays' format: float32 ox, oy, oz, tmin, dx, dy, dz,
 tmax per ray) by where each ray starts, so that trace_rays can time each kind
 apart: on one of the six faces of the scene's bounds (a Cornell box's walls:
@@ -14,7 +14,7 @@ is kept within each subset.
 E.g. the later shadow rays of a CBbunny render, those from the floor split by
 whether they cross the bunny's box:
   pathtracer -t 1 -s 4 -l 4 -m 5 -r 480 360 -a 64 0 --cs184-framing --dump-queues q CBbunny.dae
-  python3 scripts/rays_by_origin.py q/scene.tris q/shadow_d1.rays q/d1 \\
+  /usr/bin/python3 scripts/studies/rays_by_origin.py q/scene.tris q/shadow_d1.rays q/d1 \\
       --box -0.386 0.0 -0.290 0.392 0.774 0.307
   for f in q/d1_*.rays; do trace_rays q/scene.tris "$f" --occluded --threads 1; done
 """

@@ -5,7 +5,7 @@
 # matched settings (cycles_render.py says what is matched, and refuses what
 # cannot be); then, per scene:
 #   - a converged Cycles render is compared with this renderer's converged
-#     reference (scripts/convergence/make_reference.sh): image mean and 8x8 blocks;
+#     reference (scripts/studies/convergence/make_reference.sh): image mean and 8x8 blocks;
 #   - ROUNDS rounds, alternating which renderer goes first, of Cycles at
 #     16 / 64 / 256 spp and this renderer at 1, 2, 4, ..., 1024 spp (its
 #     default flags plus any given after --), each count a render of its own
@@ -14,11 +14,11 @@
 #     error-against-time chart (OUT/<scene>.png).
 # Blender (Debian's `blender`, 3.4) is installed on demand; CI never runs this.
 #
-# Usage: bash scripts/peers/cycles.sh [--scenes "CBbunny CBspheres_lambertian"] [--size 320x240]
+# Usage: bash scripts/studies/peers/cycles.sh [--scenes "CBbunny CBspheres_lambertian"] [--size 320x240]
 #        [--depth 5] [--threads 2] [--rounds 3] [--converged-spp 4096] [--ref-spp 16384]
 #        [--out out/peers] [-- PATHTRACER FLAGS]
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+cd "$(dirname "$0")/../../.."
 
 scenes="CBspheres_lambertian CBbunny CBempty CBgems CBcoil bunny cow beetle teapot banana"
 size=320x240 depth=5 threads=2 rounds=3 converged_spp=4096 ref_spp=16384 out=out/peers
@@ -64,7 +64,7 @@ mkdir -p "$out"
 } > "$out/run.txt"
 
 blender_render() {  # json dir samples [repeats]
-  blender -b --factory-startup --python scripts/peers/cycles_render.py -- "$1" "$2" --samples "$3" \
+  blender -b --factory-startup --python scripts/studies/peers/cycles_render.py -- "$1" "$2" --samples "$3" \
     --max-depth "$depth" --threads "$threads" --repeats "${4:-1}" 2>&1 | grep -E '^cycles_render' || true
   [ -f "$2/cycles_times.json" ]
 }
@@ -76,15 +76,15 @@ for scene in $scenes; do
   mkdir -p "$dir"
   "$pathtracer" -q --export-scene "$dir/scene.json" -r "$width" "$height" "$file" 2> /dev/null
   status=0
-  blender -b --factory-startup --python scripts/peers/cycles_render.py -- "$dir/scene.json" "$dir/probe" \
+  blender -b --factory-startup --python scripts/studies/peers/cycles_render.py -- "$dir/scene.json" "$dir/probe" \
     --samples 1 > "$dir/probe.log" 2>&1 || status=$?
   if [ "$status" = 3 ]; then
     grep 'not matched' "$dir/probe.log" | sed 's/^cycles_render: /cycles.sh: skipped: /' | tee -a "$out/run.txt"
     continue
   fi
   [ "$status" = 0 ] || { cat "$dir/probe.log" >&2; exit 1; }
-  ref=$(bash scripts/convergence/make_reference.sh "$file" "$width" "$height" "$depth" "$ref_spp" 1000003 "$threads")
-  key="$(cat "$dir/scene.json" scripts/peers/cycles_render.py | md5sum | cut -c1-8)_m${depth}_s${converged_spp}"
+  ref=$(bash scripts/studies/convergence/make_reference.sh "$file" "$width" "$height" "$depth" "$ref_spp" 1000003 "$threads")
+  key="$(cat "$dir/scene.json" scripts/studies/peers/cycles_render.py | md5sum | cut -c1-8)_m${depth}_s${converged_spp}"
   if [ ! -f "$dir/cycles_converged_$key.pfm" ]; then
     echo "cycles.sh: $scene: converged Cycles render ($converged_spp spp)" >&2
     blender_render "$dir/scene.json" "$dir/converged" "$converged_spp"
@@ -104,7 +104,7 @@ for scene in $scenes; do
       blender_render "$dir/scene.json" "$dir/round$r" 16,64,256; "${ours[@]}" 2> /dev/null
     fi
   done
-  "$python" scripts/peers/compare_cycles.py "$dir" "$ref" --chart "$out/$scene.png" --json "$dir/result.json" |
+  "$python" scripts/studies/peers/compare_cycles.py "$dir" "$ref" --chart "$out/$scene.png" --json "$dir/result.json" |
     tee -a "$out/summary.txt"
 done
 echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/run.txt"

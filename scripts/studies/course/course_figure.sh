@@ -4,9 +4,9 @@
 # ../shared/refs/course, once in the default (physical) mode and once with
 # --cs184-compat, and draws course / default / compat / ratio into
 # docs/course_quirks_SCENE_mM.png.
-#   bash scripts/course/course_figure.sh [SCENE] [M]
+#   bash scripts/studies/course/course_figure.sh [SCENE] [M]
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+cd "$(dirname "$0")/../../.."
 scene=${1:-CBbunny}
 m=${2:-5}
 refs=../shared/refs/course
@@ -17,6 +17,6 @@ args=(-q -t "$(nproc)" -c "$refs/cam_fullview_${scene}_256x192.txt" -r 256 192 -
 ./build/cli/pathtracer "${args[@]}" -f "build/course/${scene}_m${m}_default.pfm" "../shared/scenes/cs184/$scene.dae"
 ./build/cli/pathtracer "${args[@]}" --cs184-compat -f "build/course/${scene}_m${m}_compat.pfm" \
   "../shared/scenes/cs184/$scene.dae"
-/usr/bin/python3 scripts/course/compare_course.py "$refs/course_${scene}_m${m}_s256_l4.png" \
+/usr/bin/python3 scripts/studies/course/compare_course.py "$refs/course_${scene}_m${m}_s256_l4.png" \
   "build/course/${scene}_m${m}_default.pfm" "build/course/${scene}_m${m}_compat.pfm" "docs/course_quirks_${scene}_m${m}.png"
 echo "wrote docs/course_quirks_${scene}_m${m}.png"

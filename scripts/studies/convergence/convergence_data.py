@@ -1,26 +1,19 @@
 """Reading what the convergence runs produce: the pathtracer's PFM images
 (little-endian RGB, bottom row first), a reference's estimated noise, and the
 combined per-scene CSV as one curve per method.
-Shared by plot_convergence.py and efficiency_table.py."""
+Shared by plot_convergence.py, efficiency_table.py, combine_reference.py and
+compare_references.py; images through ptlib.images."""
 
 import csv
 import math
 import os
+import sys
 from collections import OrderedDict
 
 import numpy as np
 
-
-def read_pfm(path):
-    """Returns a (height, width, 3) float32 array, top row first."""
-    with open(path, "rb") as f:
-        magic = f.readline().strip()
-        width, height = (int(v) for v in f.readline().split())
-        scale = float(f.readline())
-        if magic != b"PF" or scale >= 0:
-            raise ValueError(f"{path}: not a little-endian RGB PFM")
-        data = np.frombuffer(f.read(width * height * 12), dtype="<f4")
-    return data.reshape(height, width, 3)[::-1]
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))  # scripts/: ptlib
+from ptlib.images import read_pfm, write_pfm  # noqa: E402,F401  (read_pfm, write_pfm: for the scripts beside it)
 
 
 def variance_path(reference_path):
