@@ -142,6 +142,6 @@ case "$command" in
     $python scripts/results.py collect-rayfiles out/rayfiles out/rayfiles/results.json \
       --command "bash scripts/bench.sh rayfiles $rounds '$scenes'" ;;
   *)
-    sed -n '2,20p' "$0" >&2
+    sed -n '2,19p' "$0" >&2
     exit 2 ;;
 esac

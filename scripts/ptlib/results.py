@@ -46,7 +46,7 @@ def dumps(rec):
         if isinstance(value, dict):
             if not value:
                 return "{}"
-            items = [f"{pad} {json.dumps(k)}: " + (
+            items = [f"{pad} {json.dumps(str(k))}: " + (
                 "[\n" + ",\n".join(f"{pad}  " + json.dumps(x) for x in v) + f"\n{pad} ]"
                 if k in ONE_LINE_ITEMS and isinstance(v, list) and v else encode(v, indent + 1))
                 for k, v in value.items()]

@@ -125,7 +125,9 @@ class Results(unittest.TestCase):
         for key in ("host", "date", "commit", "command", "isa"):
             self.assertIn(key, rec)
         self.assertIn("cpu", rec["host"])
-        json.dumps(rec)
+        rec["tile_sets"] = {16: "a", 32: "b"}
+        rec["cells"] = [{"scene": "s", "mrays_per_s": 1.5}]
+        self.assertEqual(json.loads(results.dumps(rec)), json.loads(json.dumps(rec)))  # int keys as strings
 
 
 if __name__ == "__main__":

@@ -74,11 +74,9 @@ for scene in $scenes; do
   mv "$combined.tmp" "$combined"
   "$python" "$here/plot_convergence.py" "$combined" "$ref" "$charts/convergence_$scene.png" "$baseline"
 done
-files=()
+load_end=$(cut -d' ' -f1 /proc/loadavg)
+files=(efficiency.md)
 for scene in $scenes; do files+=("convergence_$scene.csv"); done
-"$python" scripts/results.py record "$out/run.json" --kind study --command "bash $here/run_all.sh $given" \
-  --title "Speed against accuracy: error against time per method and scene" --files "${files[@]}" efficiency.md memory.md \
-  --notes "$settings; load $load_start at the start, $(cut -d' ' -f1 /proc/loadavg) at the end. Charts: $charts/."
 
 tables=("$python" "$here/efficiency_table.py" --spp-target 64 --reference-spp "$ref_spp" --baseline "$baseline")
 for scene in $scenes; do
@@ -91,4 +89,8 @@ if [ "$quick" = 0 ] && [ "$all_scenes" = 1 ]; then
   "$python" "$here/update_block.py" docs/speed_and_accuracy.md efficiency "$out/efficiency.md"
   "$python" "$here/memory_table.py" "$pathtracer" "$scene_dir" > "$out/memory.md"
   "$python" "$here/update_block.py" docs/architecture.md memory "$out/memory.md"
+  files+=(memory.md)
 fi
+"$python" scripts/results.py record "$out/run.json" --kind study --command "bash $here/run_all.sh $given" \
+  --title "Speed against accuracy: error against time per method and scene" --files "${files[@]}" \
+  --notes "$settings; load $load_start at the start, $load_end at the end. Charts: $charts/."
