@@ -41,7 +41,7 @@ case "$command" in
     command="PT_ISA=$level ./build/bench/bench_trace $* ${repeat[*]}"
     echo "bench.sh trace: $command (Google Benchmark's log: out/bench_trace.log)" >&2
     PT_ISA=$level ./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench_raw.json \
-      --benchmark_out_format=json > out/bench_trace.log
+      --benchmark_out_format=json > out/bench_trace.log 2>&1 || { tail -20 out/bench_trace.log >&2; exit 1; }
     wrap out/bench_raw.json out/bench.json bench_trace "$level" \
       "bench_trace at $level: this BVH4 and Embree on every scene and ray set" "$command"
     $tables summary out/bench.json

@@ -134,14 +134,14 @@ def summary_text(trace, scenes):
     Embree's best rate with its method, and the ratio, for each thread count."""
     threads = sorted({t for (_, _, t) in trace})
     group = "{:>8} {:>8} {:26} {:>6}"
-    head = f"{'':14} {'':14}" + "".join(f" | {f'{t} thread' + ('s' if t > 1 else ''):^51}" for t in threads)
-    cols = f"{'scene':14} {'rays':14}" + "".join(" | " + group.format("ours", "Embree", "Embree's method", "ratio")
+    head = f"{'':14} {'':16}" + "".join(f" | {f'{t} thread' + ('s' if t > 1 else ''):^51}" for t in threads)
+    cols = f"{'scene':14} {'rays':16}" + "".join(" | " + group.format("ours", "Embree", "Embree's method", "ratio")
                                                 for _ in threads)
     lines = ["Mrays/s: this tracer's best method, and Embree's best of all its methods and both builds;",
              "1 thread over the thread's CPU time, 2 threads over wall time", "", head, cols, "-" * len(cols)]
     for scene in scenes:
         for kind in KINDS:
-            row, found = f"{scene:14} {kind:14}", False
+            row, found = f"{scene:14} {kind:16}", False
             for t in threads:
                 (ours, _), (theirs, name) = ours_and_embree(trace.get((scene, kind, t), {}))
                 if ours and theirs:
