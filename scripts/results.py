@@ -142,9 +142,9 @@ def readme_table(path):
     table = bench_tables.compact_table(trace, build, results.scenes_in_order(trace, build), 1)
     level = {"avx512": "AVX-512", "avx2": "AVX2", "sse4.2": "SSE4.2", "neon": "NEON"}.get(rec["isa"], rec["isa"])
     caption = (f"`bench_trace` at the {level} level, 1 thread, one run on a {rec['host']['cores']}-core machine: this "
-               f"tracer's best method against Embree's best method of both its builds, per scene and ray set (the ratio, "
-               f"then both rates in Mrays/s), and the builds. The host, the commit and the command: "
-               f"[{os.path.basename(path)}]({path}).")
+               f"tracer's best method against Embree's best of both its builds, per scene and ray set (the ratio, then "
+               f"both rates in Mrays/s), and the builds. Made by `scripts/results.py tables` from "
+               f"[{os.path.basename(path)}]({path}), which holds the host, the commit and the command.")
     return textwrap.fill(caption, 96) + "\n\n" + "\n".join(table) + "\n"
 
 
