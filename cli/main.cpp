@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -85,6 +86,20 @@ struct Checkpointing {
     control.on_interrupt = [this](const Accumulation& acc) { save_checkpoint(path, fingerprint, acc); };
   }
 };
+
+/// The test hook PT_TEST_SIGINT_AFTER_PASS=N: the process sends itself SIGINT
+/// after its N-th completed pass, so that tests stop a render at a known point
+/// on any machine (the stop handler, the partial image, the checkpoint) instead
+/// of signalling it after a guessed delay. Unset, or not a positive number: no hook.
+void add_test_interrupt_hook(RenderControl& control) {
+  const char* value = std::getenv("PT_TEST_SIGINT_AFTER_PASS");
+  const long after = value ? std::strtol(value, nullptr, 10) : 0;
+  if (after <= 0) return;
+  control.on_pass = [inner = std::move(control.on_pass), after, passes = 0L](const Accumulation& acc) mutable {
+    if (inner) inner(acc);
+    if (++passes == after) raise(SIGINT);
+  };
+}
 
 std::filesystem::path default_output(const cli::Options& o, const Scene& scene) {
   return std::filesystem::path(scene.name).stem().string() + ".png";
@@ -196,6 +211,7 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
   RenderControl control;
   control.cancel = &g_cancel;
   if (!p.checkpoint.path.empty()) p.checkpoint.attach(control);
+  add_test_interrupt_hook(control);
   cli::ProgressBar bar(!o.quiet);
   control.progress = [&bar](double f) { bar.update(f); };
   cli::EngineRunner::QueueBytes queues;

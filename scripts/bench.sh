@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# The benchmarks in one command (Release build in build/, any generator; JSON
-# in out/ and a table from scripts/bench_tables.py):
+# The benchmarks in one command (Release build in build/, any generator). Each
+# run's JSON is wrapped in a results record with this host and the command
+# (scripts/results.py wrap; results/README.md) in out/, and tables come from
+# scripts/bench_tables.py:
 #   bash scripts/bench.sh trace [--quick] [bench_trace flags]   this BVH4 against Embree on every scene and ray set,
-#                                                               median of 5 (--quick: two small scenes, one short run)
+#                                                               median of 5 (--quick: two small scenes, one short
+#                                                               run); prints a summary (per scene and ray set: ours,
+#                                                               Embree's best with its method, the ratio) and writes
+#                                                               every rate to out/bench_table.md
 #   bash scripts/bench.sh render [REPS] [flags]                 whole renders by engine, REPS interleaved runs (3)
 #   bash scripts/bench.sh levels [REPS] [SCENE_REGEX]           both at every SIMD level this CPU runs
 #   bash scripts/bench.sh dispatch [REPS]                       dispatched binary against single-level builds
@@ -14,7 +19,11 @@
 # Embree restricted to the same instruction set.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tables="/usr/bin/python3 scripts/bench_tables.py"
+python=/usr/bin/python3  # Debian's interpreter (scripts/README.md)
+tables="$python scripts/bench_tables.py"
+# wrap RAW OUT KIND LEVEL TITLE COMMAND: RAW's Google Benchmark JSON in a results record (results/README.md).
+wrap() { $python scripts/results.py wrap "$1" "$2" --kind "$3" --isa "$4" --title "$5" --command "$6" && rm -f "$1"; }
+widest_level() { ./build/cli/pathtracer --list-isa | awk '$5 == "auto" {print $1}'; }
 build() { cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null && cmake --build build -j "$(nproc)" --target "$@" > /dev/null; }
 levels_this_cpu() { ./build/cli/pathtracer --list-isa | awk '$4 == "supported" {print $1}'; }
 mkdir -p out
@@ -22,20 +31,34 @@ command=${1:-}
 shift || true
 case "$command" in
   trace)
-    build bench_trace trace_rays
+    build bench_trace trace_rays pathtracer
     # Repetitions interleaved in random order, so that a neighbour's load on a shared machine,
     # which comes and goes, falls on this BVH4's runs and on Embree's alike.
     repeat=(--benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
             --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
     for arg in "$@"; do [ "$arg" = "--quick" ] && repeat=(--benchmark_min_time=0.02); done
-    ./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench.json --benchmark_out_format=json
-    $tables trace out/bench.json | tee out/bench_table.md ;;
+    level=${PT_ISA:-$(widest_level)}
+    command="PT_ISA=$level ./build/bench/bench_trace $* ${repeat[*]}"
+    echo "bench.sh trace: $command (Google Benchmark's log: out/bench_trace.log)" >&2
+    PT_ISA=$level ./build/bench/bench_trace "$@" "${repeat[@]}" --benchmark_out=out/bench_raw.json \
+      --benchmark_out_format=json > out/bench_trace.log 2>&1 || { tail -20 out/bench_trace.log >&2; exit 1; }
+    wrap out/bench_raw.json out/bench.json bench_trace "$level" \
+      "bench_trace at $level: this BVH4 and Embree on every scene and ray set" "$command"
+    $tables summary out/bench.json
+    $tables trace out/bench.json > out/bench_table.md
+    echo
+    echo "every rate: out/bench_table.md; the run with its host and command: out/bench.json" \
+         "(to keep it: results/bench_trace/, then $python scripts/results.py tables)" ;;
   render)
     reps=${1:-3}
     shift || true
-    build bench_render
-    ./build/bench/bench_render --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
-      --benchmark_out=out/bench_render.json --benchmark_out_format=json "$@"
+    build bench_render pathtracer
+    level=${PT_ISA:-$(widest_level)}
+    command="PT_ISA=$level ./build/bench/bench_render --benchmark_repetitions=$reps --benchmark_enable_random_interleaving=true $*"
+    PT_ISA=$level ./build/bench/bench_render --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
+      --benchmark_out=out/bench_render_raw.json --benchmark_out_format=json "$@"
+    wrap out/bench_render_raw.json out/bench_render.json bench_render "$level" "bench_render: whole renders by engine" \
+      "$command"
     $tables render out/bench_render.json | tee out/bench_render_table.md ;;
   levels)
     reps=${1:-3} scenes=${2:-'CBbunny|bunny|CBcoil|CBbunny_x16'}
@@ -44,15 +67,20 @@ case "$command" in
     mapfile -t levels < <(levels_this_cpu)
     for level in "${levels[@]}"; do
       echo "bench.sh levels: $level"
-      PT_ISA=$level ./build/bench/bench_trace --benchmark_filter="^(trace|build)/($scenes)/" \
-        --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
-        --benchmark_report_aggregates_only=true --benchmark_min_time=0.3 \
-        --benchmark_out="out/levels/trace_$level.json" --benchmark_out_format=json > /dev/null
+      args=(--benchmark_filter="^(trace|build)/($scenes)/" --benchmark_repetitions="$reps"
+            --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true --benchmark_min_time=0.3)
+      PT_ISA=$level ./build/bench/bench_trace "${args[@]}" \
+        --benchmark_out="out/levels/trace_$level.raw.json" --benchmark_out_format=json > /dev/null
+      wrap "out/levels/trace_$level.raw.json" "out/levels/trace_$level.json" bench_trace "$level" \
+        "bench_trace at $level (bench.sh levels)" "PT_ISA=$level ./build/bench/bench_trace ${args[*]}"
     done
     for ((r = 0; r < reps; ++r)); do  # renders interleaved across levels
       for level in "${levels[@]}"; do
-        PT_ISA=$level ./build/bench/bench_render --benchmark_filter='CBbunny.dae/(wavefront|megakernel|reference)/' \
-          --benchmark_out="out/levels/render_${level}_$r.json" --benchmark_out_format=json > /dev/null
+        filter='CBbunny.dae/(wavefront|megakernel|reference)/'
+        PT_ISA=$level ./build/bench/bench_render --benchmark_filter="$filter" \
+          --benchmark_out="out/levels/render_${level}_$r.raw.json" --benchmark_out_format=json > /dev/null
+        wrap "out/levels/render_${level}_$r.raw.json" "out/levels/render_${level}_$r.json" bench_render "$level" \
+          "bench_render at $level, round $r (bench.sh levels)" "PT_ISA=$level ./build/bench/bench_render --benchmark_filter='$filter'"
       done
     done
     $tables levels "${levels[@]}" | tee out/levels/table.md ;;
@@ -73,9 +101,15 @@ case "$command" in
     for ((r = 0; r < reps; ++r)); do
       for level in "${levels[@]}"; do
         PT_ISA=$level ./build/bench/bench_render --benchmark_filter="$filter" \
-          --benchmark_out="out/dispatch/dispatched_${level}_$r.json" --benchmark_out_format=json > /dev/null
+          --benchmark_out="out/dispatch/dispatched_${level}_$r.raw.json" --benchmark_out_format=json > /dev/null
+        wrap "out/dispatch/dispatched_${level}_$r.raw.json" "out/dispatch/dispatched_${level}_$r.json" bench_render \
+          "$level" "bench_render, the dispatched binary at $level, round $r" \
+          "PT_ISA=$level ./build/bench/bench_render --benchmark_filter='$filter'"
         "./build-single-$level/bench/bench_render" --benchmark_filter="$filter" \
-          --benchmark_out="out/dispatch/single_${level}_$r.json" --benchmark_out_format=json > /dev/null
+          --benchmark_out="out/dispatch/single_${level}_$r.raw.json" --benchmark_out_format=json > /dev/null
+        wrap "out/dispatch/single_${level}_$r.raw.json" "out/dispatch/single_${level}_$r.json" bench_render \
+          "$level" "bench_render, a build for $level alone (-march=${march[$level]}), round $r" \
+          "./build-single-$level/bench/bench_render --benchmark_filter='$filter'"
       done
     done
     $tables dispatch "${levels[@]}" | tee out/dispatch/table.md ;;
@@ -104,8 +138,10 @@ case "$command" in
         done
       done
     done
-    $tables rayfiles | tee out/rayfiles/table.md ;;
+    $tables rayfiles | tee out/rayfiles/table.md
+    $python scripts/results.py collect-rayfiles out/rayfiles out/rayfiles/results.json \
+      --command "bash scripts/bench.sh rayfiles $rounds '$scenes'" ;;
   *)
-    sed -n '2,14p' "$0" >&2
+    sed -n '2,19p' "$0" >&2
     exit 2 ;;
 esac

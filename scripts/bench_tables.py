@@ -1,6 +1,8 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Tables of the benchmarks' Google Benchmark JSON (what scripts/bench.sh writes):
 
+    bench_tables.py summary [out/bench.json]        bench_trace: per scene and ray set, this tracer's best rate,
+                                                    Embree's best rate and method, and the ratio (plain text)
     bench_tables.py trace [out/bench.json]          bench_trace: Mrays/s of every tracer per scene, ray set
                                                     and thread count, this BVH4's best / Embree's best, builds
     bench_tables.py render [out/bench_render.json]  bench_render: wall time, samples and rays per second by engine
@@ -8,49 +10,30 @@
     bench_tables.py dispatch LEVEL...               bench.sh dispatch: dispatched / single-level render time
     bench_tables.py rayfiles [DIR]                  bench.sh rayfiles: trace_rays' queue tracer against Embree's
                                                     best method per level, scene and ray file (out/rayfiles/)
+summary and trace read Google Benchmark JSON, or a results file that wraps it or holds its
+rates (results/README.md).
 """
 import glob
 import json
+import os
 import re
 import statistics
 import sys
 from collections import defaultdict
 
-TRACE = re.compile(r"^trace/(?P<scene>[^/]+)/(?P<kind>[^/]+)/(?P<tracer>[^/]+)/threads:(?P<threads>\d+)$")
-BUILD = re.compile(r"^build/(?P<scene>[^/]+)/(?P<builder>[^/]+)/threads:(?P<threads>\d+)$")
-KINDS = ["primary", "diffuse", "shadow", "diffuse_shuffled", "shadow_shuffled", "bounce_queues", "shadow_queues"]
-OURS = ["bvh4", "bvh4_queue", "bvh4_packet", "bvh4_incoherent"]
-
-
-def runs(data):
-    """Yields (base name, entry): medians when there are aggregates, else single runs."""
-    entries = data["benchmarks"]
-    has_median = any(e.get("aggregate_name") == "median" for e in entries)
-    for e in entries:
-        if e.get("error_occurred"):
-            continue
-        if has_median and e.get("aggregate_name") != "median":
-            continue
-        name = e.get("run_name", e["name"]).removesuffix("/manual_time").removesuffix("/real_time")
-        yield name, e
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ptlib.results import KINDS, load, ours_and_embree, scenes_in_order, trace_rates  # noqa: E402
 
 
 def collect(data):
-    trace = defaultdict(dict)  # (scene, kind, threads) -> tracer -> Mrays/s
-    build = defaultdict(dict)  # scene -> (builder, threads) -> entry
-    errors = [e["name"] + ": " + e.get("error_message", "") for e in data["benchmarks"] if e.get("error_occurred")]
-    for name, e in runs(data):
-        if m := TRACE.match(name):
-            key = (m["scene"], m["kind"], int(m["threads"]))
-            trace[key][m["tracer"]] = e["rays_per_s"] / 1e6
-        elif m := BUILD.match(name):
-            build[m["scene"]][(m["builder"], int(m["threads"]))] = e
+    """bench_trace's rates and builds (ptlib.results.trace_rates), with the builds' Google Benchmark fields."""
+    trace, builds, errors = trace_rates(data)
+    build = defaultdict(dict)
+    for scene, entries in builds.items():
+        for key, b in entries.items():
+            build[scene][key] = {"real_time": b["ms"], "bytes_per_triangle": b.get("bytes_per_triangle") or 0,
+                                 "triangles": b.get("triangles")}
     return trace, build, errors
-
-
-def best(row, prefix_list):
-    found = [(v, k) for k, v in row.items() if any(k == p or k.startswith(p) for p in prefix_list)]
-    return max(found) if found else (None, None)
 
 
 def trace_table(scene, trace):
@@ -63,8 +46,7 @@ def trace_table(scene, trace):
             if not row:
                 continue
             cells = [f"{row[t]:.2f}" if t in row else "" for t in tracers]
-            ours, ours_name = best(row, OURS)
-            theirs, theirs_name = best(row, ["embree"])
+            (ours, ours_name), (theirs, theirs_name) = ours_and_embree(row)
             ratio = f"**{ours / theirs:.2f}x** ({ours_name} vs {theirs_name})" if ours and theirs else ""
             lines.append(f"| {kind} | {threads} | " + " | ".join(cells) + f" | {ratio} |")
     return lines
@@ -80,8 +62,7 @@ def summary_table(trace, scenes):
             cells = []
             for threads in (1, 2):
                 row = trace.get((scene, kind, threads), {})
-                ours, ours_name = best(row, OURS)
-                theirs, theirs_name = best(row, ["embree"])
+                (ours, ours_name), (theirs, theirs_name) = ours_and_embree(row)
                 if ours and theirs:
                     cells += [f"{ours:.1f} ({ours_name}) / {theirs:.1f} ({theirs_name.removeprefix('embree_')})",
                               f"**{ours / theirs:.2f}x**"]
@@ -108,8 +89,7 @@ def compact_table(trace, build, scenes, threads):
         cells = []
         for kind in kinds:
             row = trace.get((scene, kind, threads), {})
-            ours, _ = best(row, OURS)
-            theirs, _ = best(row, ["embree"])
+            (ours, _), (theirs, _) = ours_and_embree(row)
             cells.append(f"{ours / theirs:.2f}x ({ours:.1f} / {theirs:.1f})" if ours and theirs else "")
         b = build.get(scene, {})
         mine, hq = b.get(("bvh4", 1)), b.get(("embree_high", 1))
@@ -133,15 +113,63 @@ def build_table(scene, builds):
     return lines
 
 
-def trace_main(path="out/bench.json"):
-    with open(path) as f:
-        data = json.load(f)
-    trace, build, errors = collect(data)
+def describe_run(data):
+    """The lines that say where a run's figures come from: its results record, or Google Benchmark's context."""
+    if "host" in data:
+        h = data["host"]
+        lines = [f"{data.get('title', '')}", "",
+                 f"host: {h.get('cpu', '?')} (family {h.get('cpu_family', '?')}, model {h.get('cpu_model', '?')}), "
+                 f"{h.get('cores', '?')} cores; level {data.get('isa') or '-'}; {data.get('date', '?')}; "
+                 f"commit {data.get('commit', '?')}", "", f"command: `{data.get('command', '?')}`"]
+        if data.get("notes"):
+            lines += ["", data["notes"]]
+        return lines
     context = data.get("context", {})
-    print(f"# bench_trace, {context.get('date', '')}")
-    print(f"host: {context.get('num_cpus', '?')} CPUs; Embree: {context.get('embree', 'absent')}; "
-          f"{context.get('rays', '')}; Mrays/s, 1 thread over thread CPU time, 2 threads over wall time\n")
-    scenes = list(dict.fromkeys([s for (s, _, _) in trace] + list(build)))
+    return [f"{context.get('date', '')}; {context.get('num_cpus', '?')} CPUs; Embree: {context.get('embree', 'absent')}; "
+            f"{context.get('rays', '')}"]
+
+
+def summary_text(trace, scenes):
+    """The readable summary bench.sh trace leads with: per scene and ray set, this tracer's best rate,
+    Embree's best rate with its method, and the ratio, for each thread count."""
+    threads = sorted({t for (_, _, t) in trace})
+    group = "{:>8} {:>8} {:26} {:>6}"
+    head = f"{'':14} {'':16}" + "".join(f" | {f'{t} thread' + ('s' if t > 1 else ''):^51}" for t in threads)
+    cols = f"{'scene':14} {'rays':16}" + "".join(" | " + group.format("ours", "Embree", "Embree's method", "ratio")
+                                                for _ in threads)
+    lines = ["Mrays/s: this tracer's best method, and Embree's best of all its methods and both builds;",
+             "1 thread over the thread's CPU time, 2 threads over wall time", "", head, cols, "-" * len(cols)]
+    for scene in scenes:
+        for kind in KINDS:
+            row, found = f"{scene:14} {kind:16}", False
+            for t in threads:
+                (ours, _), (theirs, name) = ours_and_embree(trace.get((scene, kind, t), {}))
+                if ours and theirs:
+                    found = True
+                    row += " | " + group.format(f"{ours:.1f}", f"{theirs:.1f}", name.removeprefix("embree_"),
+                                                f"{ours / theirs:.2f}x")
+                else:
+                    row += " | " + group.format("", "", "", "")
+            if found:
+                lines.append(row.rstrip())
+    return lines
+
+
+def summary_main(path="out/bench.json"):
+    data = load(path)
+    trace, build, errors = collect(data)
+    print("\n".join(summary_text(trace, scenes_in_order(trace, build))))
+    if errors:
+        print(f"not timed: {len(errors)} benchmarks (the full table lists them)")
+
+
+def trace_main(path="out/bench.json"):
+    data = load(path)
+    trace, build, errors = collect(data)
+    print("# bench_trace: every rate\n")
+    print("\n".join(describe_run(data)) + "\n")
+    print("Mrays/s, 1 thread over the thread's CPU time, 2 threads over wall time.\n")
+    scenes = scenes_in_order(trace, build)
     print("## This BVH4's best method against Embree's best\n")
     print("\n".join(summary_table(trace, scenes)) + "\n")
     for threads in (1, 2):
@@ -159,8 +187,14 @@ def trace_main(path="out/bench.json"):
 
 
 
+def benchmark_json(path):
+    """Google Benchmark's JSON in `path`, itself or wrapped in a results record."""
+    data = load(path)
+    return data.get("benchmark", data)
+
+
 def render_main(path="out/bench_render.json"):
-    data = json.load(open(path))
+    data = benchmark_json(path)
     runs = defaultdict(list)  # (scene, engine) -> [entry]
     for e in data["benchmarks"]:
         if e.get("run_type") != "iteration" or e.get("error_occurred"):
@@ -192,7 +226,7 @@ def render_main(path="out/bench_render.json"):
 
 
 def trace_rows(level):
-    data = json.load(open(f"out/levels/trace_{level}.json"))
+    data = load(f"out/levels/trace_{level}.json")
     trace, build, _ = collect(data)
     scenes = list(dict.fromkeys(s for (s, _, _) in trace))
     for scene in scenes:
@@ -200,16 +234,15 @@ def trace_rows(level):
         for threads in (1, 2):
             for kind in KINDS:
                 row = trace.get((scene, kind, threads), {})
-                ours, _ = best(row, OURS)
-                theirs, _ = best(row, ["embree"])
+                (ours, _), (theirs, _) = ours_and_embree(row)
                 cells.append(f"{ours:.1f} / {theirs:.1f} ({ours / theirs:.2f}x)" if ours and theirs else "")
-        yield scene, data["context"].get("embree", "absent"), cells
+        yield scene, data.get("benchmark", data)["context"].get("embree", "absent"), cells
 
 
 def render_medians(level):
     times = {}
     for path in glob.glob(f"out/levels/render_{level}_*.json"):
-        for b in json.load(open(path))["benchmarks"]:
+        for b in benchmark_json(path)["benchmarks"]:
             times.setdefault(b["run_name"].split("/")[2], []).append(b["seconds"])
     return {engine: statistics.median(t) for engine, t in times.items()}
 
@@ -241,7 +274,7 @@ def dispatch_main(*levels):
         times = {}
         for kind in ("dispatched", "single"):
             for path in glob.glob(f"out/dispatch/{kind}_{level}_*.json"):
-                for b in json.load(open(path))["benchmarks"]:
+                for b in benchmark_json(path)["benchmarks"]:
                     engine = b["run_name"].split("/")[2]
                     times.setdefault((kind, engine), []).append(b["seconds"])
         for engine in ("wavefront", "megakernel"):
@@ -250,22 +283,32 @@ def dispatch_main(*levels):
             print(f"| {level} | {engine} | {d:.3f} | {s:.3f} | {d / s:.3f} |")
 
 
-def rayfiles_main(directory="out/rayfiles"):
-    """Medians over the rounds of each method's 1-thread rate; the ratio is
-    the queue tracer's median over Embree's best median."""
-    rates = defaultdict(lambda: defaultdict(list))  # (level, scene, set) -> method -> Mrays/s per round
-    name = re.compile(r"^(?P<level>[^_]+)_(?P<scene>.+)_(?P<set>primary|diffuse|shadow)_\d+\.jsonl$")
+RAYFILE = re.compile(r"^(?P<level>[^_]+)_(?P<scene>.+)_(?P<set>primary|diffuse|shadow)_(?P<round>\d+)\.jsonl$")
+
+
+def rayfiles_runs(directory="out/rayfiles"):
+    """Every line trace_rays wrote in bench.sh rayfiles' files, with the file's level, scene, set and round."""
+    runs = []
     for path in sorted(glob.glob(f"{directory}/*.jsonl")):
-        m = name.match(path.rsplit("/", 1)[-1])
+        m = RAYFILE.match(os.path.basename(path))
         if not m:
             continue
         for line in open(path):
             if line.startswith("{"):
-                d = json.loads(line)
-                if d["threads"] == 1:
-                    rates[(m["level"], m["scene"], m["set"])][d["method"]].append(d["mrays_per_s"])
-    print("| level | scene | rays | queue tracer Mrays/s | Embree's best Mrays/s (method) | ratio | rounds |")
-    print("|---|---|---|---|---|---|---|")
+                runs.append(dict(json.loads(line), level=m["level"], scene=m["scene"], set=m["set"],
+                                 round=int(m["round"])))
+    return runs
+
+
+def rayfiles_table(runs):
+    """Medians over the rounds of each method's 1-thread rate; the ratio is
+    the queue tracer's median over Embree's best median."""
+    rates = defaultdict(lambda: defaultdict(list))  # (level, scene, set) -> method -> Mrays/s per round
+    for d in runs:
+        if d["threads"] == 1:
+            rates[(d["level"], d["scene"], d["set"])][d["method"]].append(d["mrays_per_s"])
+    lines = ["| level | scene | rays | queue tracer Mrays/s | Embree's best Mrays/s (method) | ratio | rounds |",
+             "|---|---|---|---|---|---|---|"]
     order = {"primary": 0, "diffuse": 1, "shadow": 2}
     for (level, scene, kind), methods in sorted(rates.items(), key=lambda i: (i[0][0], i[0][1], order[i[0][2]])):
         if "queue" not in methods:
@@ -275,11 +318,16 @@ def rayfiles_main(directory="out/rayfiles"):
         if not embree:
             continue
         top = max(embree, key=embree.get)
-        print(f"| {level} | {scene} | {kind} | {ours:.1f} | {embree[top]:.1f} ({top.removeprefix('embree_')}) "
-              f"| {ours / embree[top]:.2f} | {len(methods['queue'])} |")
+        lines.append(f"| {level} | {scene} | {kind} | {ours:.1f} | {embree[top]:.1f} ({top.removeprefix('embree_')}) "
+                     f"| {ours / embree[top]:.2f} | {len(methods['queue'])} |")
+    return lines
 
 
-COMMANDS = {"trace": trace_main, "render": render_main, "levels": levels_main, "dispatch": dispatch_main,
+def rayfiles_main(directory="out/rayfiles"):
+    print("\n".join(rayfiles_table(rayfiles_runs(directory))))
+
+
+COMMANDS = {"summary": summary_main, "trace": trace_main, "render": render_main, "levels": levels_main, "dispatch": dispatch_main,
             "rayfiles": rayfiles_main}
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ packages=(
   python3-matplotlib            # convergence charts
   libcpp-httplib-dev            # the live view's HTTP server (pathtracer --serve)
   python3-pil                   # the live view's browser test reads PNGs
+  python3-imageio libfreeimage3 # EXR images in the scripts' toolkit (scripts/ptlib/images.py)
 )
 browser=(chromium chromium-driver python3-selenium)  # the live view's browser test (headless Chromium)
 sudo_cmd=""

@@ -22,9 +22,12 @@ struct RenderControl {
 
   /// Pass-based engines: start from this state (a checkpoint) instead of zero.
   const Accumulation* resume_from = nullptr;
-  /// Pass-based engines: called after every completed pass, and on a cancel
-  /// with the state reached (whole chunks only), e.g. to save a checkpoint.
+  /// Pass-based engines: called after every completed pass (not after a pass
+  /// a cancel cut short), e.g. to save a checkpoint now and then.
   std::function<void(const Accumulation&)> on_pass;
+  /// Pass-based engines: called once when a cancel ended the render, with the
+  /// state reached (whole chunks only: a pass may be partly done), e.g. to
+  /// save the checkpoint a resume starts from.
   std::function<void(const Accumulation&)> on_interrupt;
 
   /// The film holds only the render region (Film::cropped), not the image.

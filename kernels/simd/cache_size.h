@@ -7,9 +7,8 @@
 namespace pt {
 
 /// The L2 cache of one core, in bytes, as the C library reports it (glibc
-/// reads it from CPUID on x86-64: 1 MiB on AMD's Zen 4 and 5, 2 MiB on
-/// Intel's Sapphire and Emerald Rapids), or kDefaultL2CacheBytes where it
-/// reports none (on aarch64, glibc often does not). Read once.
+/// reads it from CPUID on x86-64), or kDefaultL2CacheBytes where it reports
+/// none (on aarch64, glibc often does not). Read once.
 std::size_t l2_cache_bytes();
 
 inline constexpr std::size_t kDefaultL2CacheBytes = std::size_t(1) << 20;

@@ -448,7 +448,7 @@ inline vintK compress(vintK v, uint32_t mask) {
 /// Stores the lanes of v selected by `mask` contiguously at dst, lowest lane
 /// first (stream compaction). Writes K values: the caller has room for K at
 /// dst; only popcount(mask) of them are meaningful. Compresses in a register
-/// (the memory form of vcompressps is microcoded on AMD Zen 4 and 5).
+/// (the memory form of vcompressps is microcoded on AMD's AVX-512 cores).
 inline void store_compressed(int32_t* dst, uint32_t mask, vintK v) {
   simd_detail::compress(v, mask).store_unaligned(dst);
 }

@@ -15,8 +15,10 @@ Selenium against `pathtracer --serve`.
    server cleanly.
 
 Exits 77 (ctest: skipped) with a message when Chromium, its WebDriver or
-Selenium is not installed. Prints the first frame's time and the frames per
-second during the drag (figures, not checks).
+Selenium is not installed. Of the --scene files the first that exists is
+used (the shared CBbunny, else the built-in scene); with CI=true the first
+must exist, and its absence fails the test, naming it. Prints the first
+frame's time and the frames per second during the drag (figures, not checks).
 """
 import argparse
 import base64
@@ -158,6 +160,9 @@ def main():
     args = parser.parse_args()
     if args.flags:
         FLAGS[:] = args.flags.split()
+    if os.environ.get("CI") in ("true", "1") and not os.path.exists(args.scene[0]):
+        sys.exit("FAILED: " + os.path.normpath(os.path.abspath(args.scene[0])) +
+                 " is missing (the shared data, ../shared next to the clone); CI=true: a CI run needs it")
     scene = next((os.path.abspath(s) for s in args.scene if os.path.exists(s)), None)
     assert scene, "none of the scenes exists: " + " ".join(args.scene)
     args.pathtracer = os.path.abspath(args.pathtracer)

@@ -39,9 +39,7 @@ namespace {
 constexpr int kWidth = 256, kHeight = 192, kBlock = 8;
 constexpr double kBlockZ = 5.5;
 
-std::filesystem::path refs() {
-  return std::filesystem::path(PT_SHARED_SCENES).parent_path().parent_path() / "refs" / "course";
-}
+std::filesystem::path refs() { return test::shared_course_refs_dir(); }
 
 /// Linear value of code v: the middle of its truncation interval, except for
 /// 0, most often an exact black; and the variance of the rounding around it
@@ -102,7 +100,7 @@ Comparison compare(const Film& ours, const test::DecodedImage& course) {
 
 TEST(CourseImages, CompatReproducesTheCourseRenderersImages) {
   PT_REQUIRE_SHARED_SCENES();
-  if (!std::filesystem::is_directory(refs())) GTEST_SKIP() << refs() << " absent";
+  PT_REQUIRE_SHARED_DIR(refs());
   for (const char* scene_name : {"CBbunny", "CBspheres_lambertian"}) {
     Scene scene = load_collada_file(test::shared_scene(std::string(scene_name) + ".dae")).scene;
     Camera camera =
@@ -144,7 +142,7 @@ TEST(CourseImages, CompatReproducesTheCourseRenderersImages) {
 // exists for) the same comparison fails.
 TEST(CourseImages, TheComparisonRejectsTheImageWithoutTheLightPdfQuirk) {
   PT_REQUIRE_SHARED_SCENES();
-  if (!std::filesystem::is_directory(refs())) GTEST_SKIP() << refs() << " absent";
+  PT_REQUIRE_SHARED_DIR(refs());
   Scene scene = load_collada_file(test::shared_scene("CBbunny.dae")).scene;
   Camera camera =
       resolve_camera(read_camera_settings_file(refs() / "cam_fullview_CBbunny_256x192.txt"), kWidth, kHeight);

@@ -295,7 +295,7 @@ TEST(Materials, DiffuseColourEmissionAndCglMirror) {
 }
 
 TEST(SharedScenes, NonDiffuseMaterialsAreReadAsTheFileStates) {
-  if (!test::shared_scenes_available()) GTEST_SKIP() << "../shared/scenes/cs184 absent";
+  PT_REQUIRE_SHARED_SCENES();
   auto kinds = [](const Scene& s, MaterialKind k) {
     std::vector<const Material*> out;
     for (const Material& m : s.materials)

@@ -15,11 +15,31 @@
 #include <fstream>
 #include <thread>
 
+extern char** environ;
+
 namespace pt::test {
 namespace {
 
+/// This process's environment with `extra` ("NAME=VALUE") added, as execve
+/// takes it; the strings live in `storage`. Built before fork: the child only execs.
+std::vector<char*> environment_with(const std::vector<std::string>& extra, std::vector<std::string>& storage) {
+  storage.clear();
+  for (char** e = environ; *e; ++e) {
+    std::string entry(*e);
+    const std::string name = entry.substr(0, entry.find('=') + 1);
+    if (std::none_of(extra.begin(), extra.end(), [&](const std::string& x) { return x.rfind(name, 0) == 0; }))
+      storage.push_back(std::move(entry));
+  }
+  storage.insert(storage.end(), extra.begin(), extra.end());
+  std::vector<char*> envp;
+  for (std::string& entry : storage) envp.push_back(entry.data());
+  envp.push_back(nullptr);
+  return envp;
+}
+
 [[noreturn]] void exec_child(const std::string& program, const std::vector<std::string>& args,
-                             const std::filesystem::path& cwd, int out_fd, int err_fd, size_t memory_limit) {
+                             const std::filesystem::path& cwd, int out_fd, int err_fd, size_t memory_limit,
+                             char* const* envp) {
   std::vector<char*> argv;
   argv.push_back(const_cast<char*>(program.c_str()));
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -33,31 +53,20 @@ namespace {
   int null_fd = open("/dev/null", O_RDONLY);
   if (null_fd < 0 || dup2(null_fd, 0) < 0) _exit(126);
   if (chdir(cwd.c_str()) != 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(126);
-  execv(program.c_str(), argv.data());
+  execve(program.c_str(), argv.data(), envp);
   _exit(127);
 }
 
 /// Reads both pipes until they close or the deadline passes; false on timeout.
-/// Sends SIGINT to `pid` once `interrupt_after` seconds have passed (if > 0).
-bool drain(pid_t pid, int out_fd, int err_fd, std::string& out, std::string& err, double timeout_seconds,
-           double interrupt_after) {
-  const auto start = std::chrono::steady_clock::now();
-  auto deadline = start + std::chrono::duration<double>(timeout_seconds);
-  auto interrupt_at = start + std::chrono::duration<double>(interrupt_after);
-  bool interrupt_pending = interrupt_after > 0;
+bool drain(int out_fd, int err_fd, std::string& out, std::string& err, double timeout_seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
   pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
   std::string* sinks[2] = {&out, &err};
   int open = 2;
   char buf[4096];
   while (open > 0) {
-    auto now = std::chrono::steady_clock::now();
-    if (interrupt_pending && now >= interrupt_at) {
-      kill(pid, SIGINT);
-      interrupt_pending = false;
-    }
-    auto until = interrupt_pending ? std::min(deadline, interrupt_at) : deadline;
-    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - now);
-    if (!interrupt_pending && left.count() <= 0) return false;
+    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
     left = std::max(left, std::chrono::milliseconds(1));
     if (poll(fds, 2, static_cast<int>(left.count())) < 0) continue;
     for (int i = 0; i < 2; ++i) {
@@ -78,15 +87,17 @@ bool drain(pid_t pid, int out_fd, int err_fd, std::string& out, std::string& err
 
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
                           const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes,
-                          double interrupt_after_seconds) {
+                          const std::vector<std::string>& environment) {
 #if defined(__SANITIZE_ADDRESS__)
   memory_limit_bytes = 0;
 #endif
   ProcessResult r;
+  std::vector<std::string> env_storage;
+  std::vector<char*> envp = environment_with(environment, env_storage);
   int out_pipe[2], err_pipe[2];
   if (pipe2(out_pipe, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) return r;
   pid_t pid = fork();
-  if (pid == 0) exec_child(program, args, cwd, out_pipe[1], err_pipe[1], memory_limit_bytes);
+  if (pid == 0) exec_child(program, args, cwd, out_pipe[1], err_pipe[1], memory_limit_bytes, envp.data());
   close(out_pipe[1]);
   close(err_pipe[1]);
   if (pid < 0) {
@@ -94,7 +105,7 @@ ProcessResult run_process(const std::string& program, const std::vector<std::str
     close(err_pipe[0]);
     return r;
   }
-  r.timed_out = !drain(pid, out_pipe[0], err_pipe[0], r.out, r.err, timeout_seconds, interrupt_after_seconds);
+  r.timed_out = !drain(out_pipe[0], err_pipe[0], r.out, r.err, timeout_seconds);
   if (r.timed_out) kill(pid, SIGKILL);
   close(out_pipe[0]);
   close(err_pipe[0]);
@@ -113,7 +124,7 @@ BackgroundProcess::BackgroundProcess(const std::string& program, const std::vect
   int out_pipe[2], err_pipe[2];
   if (pipe2(out_pipe, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) return;
   pid_t pid = fork();
-  if (pid == 0) exec_child(program, args, cwd, out_pipe[1], err_pipe[1], 0);
+  if (pid == 0) exec_child(program, args, cwd, out_pipe[1], err_pipe[1], 0, environ);
   close(out_pipe[1]);
   close(err_pipe[1]);
   out_fd_ = out_pipe[0];

@@ -21,14 +21,15 @@ struct ProcessResult {
   size_t peak_rss_bytes = 0;  ///< the child's maximum resident set size (wait4)
 };
 
-/// Runs `program` with `args` in `cwd`, killing it after `timeout_seconds`.
-/// When `memory_limit_bytes` > 0 the child's address space is capped (not
-/// under AddressSanitizer, whose shadow memory needs terabytes of it). When
-/// `interrupt_after_seconds` > 0 the child gets SIGINT after that long.
-/// The tests' one way to run a program.
+/// Runs `program` with `args` in `cwd`, killing it after `timeout_seconds`
+/// (a limit against hangs, never a check of speed). When `memory_limit_bytes`
+/// > 0 the child's address space is capped (not under AddressSanitizer, whose
+/// shadow memory needs terabytes of it). `environment` ("NAME=VALUE" entries)
+/// is added to the child's environment, e.g. a test hook such as
+/// PT_TEST_SIGINT_AFTER_PASS. The tests' one way to run a program.
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
                           const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes = 0,
-                          double interrupt_after_seconds = 0);
+                          const std::vector<std::string>& environment = {});
 
 /// A program started in the background (standard input /dev/null), whose
 /// stdout and stderr a thread collects; killed on destruction if still running.

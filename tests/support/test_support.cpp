@@ -1,13 +1,36 @@
 // Test helper implementations.
 #include "support/test_support.h"
 
+#include <cstdlib>
+#include <cstring>
+
 #include "io/read_file.h"
 
 namespace pt::test {
 
 std::filesystem::path shared_scene(const std::string& name) { return std::filesystem::path(PT_SHARED_SCENES) / name; }
 
-bool shared_scenes_available() { return std::filesystem::is_directory(PT_SHARED_SCENES); }
+std::filesystem::path shared_scenes_dir() { return std::filesystem::path(PT_SHARED_SCENES); }
+
+std::filesystem::path shared_course_refs_dir() {
+  return shared_scenes_dir().parent_path().parent_path() / "refs" / "course";
+}
+
+bool ci_requires_shared_data() {
+  const char* ci = std::getenv("CI");
+  return ci && (std::strcmp(ci, "true") == 0 || std::strcmp(ci, "1") == 0);
+}
+
+std::string missing_shared_message(const std::filesystem::path& folder) {
+  std::string what = folder.lexically_normal().string() + " is missing (the shared data, ../shared next to the clone)";
+  return ci_requires_shared_data() ? what + "; CI=true: a CI run needs it" : what + "; skipped (CI=true fails instead)";
+}
+
+bool shared_scenes_available() {
+  if (std::filesystem::is_directory(shared_scenes_dir())) return true;
+  if (ci_requires_shared_data()) ADD_FAILURE() << missing_shared_message(shared_scenes_dir());
+  return false;
+}
 
 std::filesystem::path project_scene(const std::string& name) { return std::filesystem::path(PT_PROJECT_SCENES) / name; }
 
