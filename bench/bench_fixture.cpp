@@ -103,12 +103,6 @@ RayArrays SceneFixture::arrays(int set, size_t b, size_t e) const {
 void SceneFixture::add_tracers(const FixtureOptions& options) {
   tracers_.push_back({"bvh4", each_ray(*bvh4_)});
   add_queue_tracer();
-  TracerEntry packets{"bvh4_packet", [this](int set, size_t b, size_t e, Hit* hits, uint8_t*) {
-                        bvh4_->intersect(std::span<const Ray>(sets_[set].rays).subspan(b, e - b),
-                                         std::span<Hit>(hits + b, e - b));
-                      }};
-  packets.coherent_only = true;
-  tracers_.push_back(packets);
   incoherent_ = std::make_unique<IncoherentBatches>(*bvh4_, scene_);
   TracerEntry incoherent{"bvh4_incoherent", [this](int set, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
                            std::span<const Ray> rays = std::span<const Ray>(sets_[set].rays).subspan(b, e - b);
@@ -118,10 +112,10 @@ void SceneFixture::add_tracers(const FixtureOptions& options) {
                          }};
   incoherent.whole_set = true;
   tracers_.push_back(incoherent);
-  Bvh4Options watertight = options.bvh4;
-  watertight.watertight = true;
-  bvh4_watertight_ = std::make_unique<SceneBvh4>(scene_, watertight);
-  tracers_.push_back({"bvh4_watertight", each_ray(*bvh4_watertight_)});
+  bvh4_watertight_ = std::make_unique<WatertightBvh4>(scene_, options.bvh4);
+  tracers_.push_back(
+      {"bvh4_watertight", single_rays([this](const Ray& r, Hit& h) { bvh4_watertight_->intersect(r, h); },
+                                      [this](const Ray& r) { return bvh4_watertight_->occluded(r); })});
   add_reference_tracers(options);
 #ifdef PT_HAVE_EMBREE
   add_embree_tracers();
@@ -154,10 +148,10 @@ void SceneFixture::add_queue_tracer() {
           const size_t qe = std::min(e, s.queue_ends[qi]);
           const RayArrays rays = arrays(set, qb, qe);
           if (s.occlusion) {
-            bvh4_->occluded(rays, blocked + qb, scratch->local());
+            bvh4_->occluded_queue(rays, blocked + qb, scratch->local());
           } else {
             std::array<LineAlignedVector<float>, 3>& h = queue_hits_[set];
-            bvh4_->intersect(
+            bvh4_->intersect_queue(
                 rays, HitArrays{h[0].data() + qb, h[1].data() + qb, h[2].data() + qb, queue_prims_[set].data() + qb},
                 scratch->local());
           }
@@ -236,7 +230,6 @@ const std::string& SceneFixture::validate(const TracerEntry& t, int set) {
 }
 
 TraversalCounters SceneFixture::bvh4_work(int set, bool watertight, bool queue) const {
-  const SceneBvh4& bvh = watertight ? *bvh4_watertight_ : *bvh4_;
   const RaySet& s = sets_[set];
   TraversalCounters c;
   if (queue) {
@@ -246,16 +239,18 @@ TraversalCounters SceneFixture::bvh4_work(int set, bool watertight, bool queue) 
     for (size_t e : s.queue_ends) {
       const size_t n = e - b;
       q.t.resize(n), q.u.resize(n), q.v.resize(n), q.prim.resize(n);
-      if (s.occlusion) bvh.occluded(arrays(set, b, e), blocked.data() + b, q.scratch, c);
-      else bvh.intersect(arrays(set, b, e), HitArrays{q.t.data(), q.u.data(), q.v.data(), q.prim.data()}, q.scratch, c);
+      if (s.occlusion) bvh4_->occluded_queue(arrays(set, b, e), blocked.data() + b, q.scratch, &c);
+      else
+        bvh4_->intersect_queue(arrays(set, b, e), HitArrays{q.t.data(), q.u.data(), q.v.data(), q.prim.data()},
+                               q.scratch, &c);
       b = e;
     }
     return c;
   }
   for (const Ray& r : s.rays) {
     Hit h;
-    if (s.occlusion) bvh.occluded(r, c);
-    else bvh.intersect(r, h, c);
+    if (s.occlusion) watertight ? bvh4_watertight_->occluded(r, &c) : bvh4_->occluded(r, &c);
+    else watertight ? bvh4_watertight_->intersect(r, h, &c) : bvh4_->intersect(r, h, &c);
   }
   return c;
 }

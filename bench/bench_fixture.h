@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_queries.h"
 #include "bvh/scene_bvh2.h"
 #include "bvh/scene_bvh4.h"
 #include "incoherent_batch.h"
@@ -44,7 +45,6 @@ struct TracerEntry {
   /// arrays): turns the last trace of rays [begin, end) of a set into Hit
   /// records, for validation only (outside the timed loop).
   std::function<void(int set, size_t begin, size_t end, Hit* hits)> collect{};
-  bool coherent_only = false;  ///< packets of coherent rays: the primary set only
   size_t max_rays = SIZE_MAX;  ///< traces only this prefix of a set
   bool whole_set = false;      ///< called once per set inside the thread arena, never in chunks
 };
@@ -94,8 +94,8 @@ class SceneFixture {
     return [this, &bvh](int set, size_t b, size_t e, Hit* hits, uint8_t* blocked) {
       const RaySet& s = sets_[set];
       std::span<const Ray> rays = std::span<const Ray>(s.rays).subspan(b, e - b);
-      if (s.occlusion) bvh.occluded_each(rays, std::span<uint8_t>(blocked + b, e - b));
-      else bvh.intersect_each(rays, std::span<Hit>(hits + b, e - b));
+      if (s.occlusion) bench_queries().occluded_each(bvh, rays, std::span<uint8_t>(blocked + b, e - b));
+      else bench_queries().intersect_each(bvh, rays, std::span<Hit>(hits + b, e - b));
     };
   }
   void make_sets(const FixtureOptions& options);
@@ -116,7 +116,8 @@ class SceneFixture {
   std::vector<LineAlignedVector<uint32_t>> queue_prims_;             ///< and its primitives
   std::vector<std::vector<Hit>> oracle_hits_;
   std::vector<std::vector<uint8_t>> oracle_blocked_;
-  std::unique_ptr<SceneBvh4> bvh4_, bvh4_watertight_;
+  std::unique_ptr<SceneBvh4> bvh4_;
+  std::unique_ptr<WatertightBvh4> bvh4_watertight_;
   std::unique_ptr<IncoherentBatches> incoherent_;
   std::unique_ptr<SceneBvh2> bvh2_, brute_;
 #ifdef PT_HAVE_EMBREE

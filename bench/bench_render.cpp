@@ -62,9 +62,9 @@ const LoadedScene& scene(const std::string& name) {
 RenderOutput render(const std::string& engine, const LoadedScene& s, const RenderSettings& rs) {
   const wf::Tracing tracing{.bvh4 = s.bvh.get()};
   if (engine == "wavefront") return wf::render_wavefront(s.scene, s.camera, rs, tracing);
-  if (engine == "wavefront_packets" || engine == "wavefront_single") {  // what the queue tracer buys
+  if (engine == "wavefront_single") {  // what the queue tracer buys
     wf::WavefrontOptions o;
-    o.trace = engine == "wavefront_packets" ? wf::TraceMode::kPackets : wf::TraceMode::kSingle;
+    o.trace = wf::TraceMode::kSingle;
     return wf::render_wavefront(s.scene, s.camera, rs, tracing, o);
   }
   if (engine == "wavefront_unsorted") {  // every shading kernel over every ray: what material queues buy
@@ -103,8 +103,7 @@ void bench_render(benchmark::State& state, const std::string& scene_name, const 
 void register_benchmarks() {
   for (const char* scene_name :
        {"CBbunny.dae", "CBspheres_lambertian.dae", "CBcoil.dae", "CBgems.dae", "CBspheres_microfacet_al_ag.dae"})
-    for (const char* engine :
-         {"wavefront", "wavefront_packets", "wavefront_single", "wavefront_unsorted", "megakernel", "reference"}) {
+    for (const char* engine : {"wavefront", "wavefront_single", "wavefront_unsorted", "megakernel", "reference"}) {
       std::string name = std::string("render/") + scene_name + "/" + engine + "/threads:2";
       benchmark::RegisterBenchmark(name.c_str(), bench_render, std::string(scene_name), std::string(engine), 2)
           ->Unit(benchmark::kSecond)

@@ -6,7 +6,7 @@
 // depths 1-4 of a real wavefront render of the scene (captured_queues.h), in
 // the render's order and queues. Tracers: this BVH4 (single rays with
 // Moller-Trumbore and watertight leaves; the queue tracer over each queue;
-// packets of K rays on primary rays; sorted single rays for incoherent
+// sorted single rays for incoherent
 // batches), the reference binary BVH, brute force on small scenes, and
 // Embree 3 built with high and default quality, with every method it has
 // (single rays, packets of 4/8/16, streams of records and of arrays, with the
@@ -149,7 +149,6 @@ void build_embree_benchmark(benchmark::State& state, SceneSpec spec, RTCBuildQua
 
 std::vector<std::string> tracer_names(const SceneSpec& spec, const std::string& set) {
   std::vector<std::string> names = {"bvh4", "bvh4_queue", "bvh4_watertight", "bvh2_midpoint", "bvh4_incoherent"};
-  if (set == "primary") names.push_back("bvh4_packet");
   if (spec.small) names.push_back("brute_force");
 #ifdef PT_HAVE_EMBREE
   for (const char* build : {"embree_high_", "embree_default_"})

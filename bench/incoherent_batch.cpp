@@ -2,6 +2,8 @@
 // BVH4's range queries in parallel.
 #include "incoherent_batch.h"
 
+#include "bench_queries.h"
+
 #include <algorithm>
 #include <cstring>
 #include <memory>
@@ -76,12 +78,12 @@ IncoherentBatches::IncoherentBatches(const SceneBvh4& bvh, const Scene& scene, s
 
 void IncoherentBatches::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
   trace_batch(rays, hits, reorder_, bounds_,
-              [this](std::span<const Ray> r, std::span<Hit> h) { bvh_.intersect_each(r, h); });
+              [this](std::span<const Ray> r, std::span<Hit> h) { bench_queries().intersect_each(bvh_, r, h); });
 }
 
 void IncoherentBatches::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
   trace_batch(rays, blocked, reorder_, bounds_,
-              [this](std::span<const Ray> r, std::span<uint8_t> b) { bvh_.occluded_each(r, b); });
+              [this](std::span<const Ray> r, std::span<uint8_t> b) { bench_queries().occluded_each(bvh_, r, b); });
 }
 
 }  // namespace pt::bench

@@ -43,6 +43,7 @@
 #endif
 #include "line_aligned_vector.h"
 #include "ray_driver.h"
+#include "bench_queries.h"
 #include "io/ray_files.h"
 
 namespace {
@@ -142,12 +143,13 @@ Pass trace_once(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q, s
       const size_t b = k * setup.queue, e = std::min(rays.size(), b + setup.queue);
       if (setup.single) {
         std::span<const Ray> in = std::span<const Ray>(rays).subspan(b, e - b);
-        if (setup.occluded) bvh.occluded_each(in, std::span<uint8_t>(q.blocked).subspan(b, e - b));
-        else bvh.intersect_each(in, std::span<Hit>(hits).subspan(b, e - b));
+        if (setup.occluded)
+          bench::bench_queries().occluded_each(bvh, in, std::span<uint8_t>(q.blocked).subspan(b, e - b));
+        else bench::bench_queries().intersect_each(bvh, in, std::span<Hit>(hits).subspan(b, e - b));
       } else if (setup.occluded) {
-        bvh.occluded(q.rays(b, e), q.blocked.data() + b, scratch.local());
+        bvh.occluded_queue(q.rays(b, e), q.blocked.data() + b, scratch.local());
       } else {
-        bvh.intersect(q.rays(b, e), q.hits(b), scratch.local());
+        bvh.intersect_queue(q.rays(b, e), q.hits(b), scratch.local());
       }
     }
   });
@@ -166,14 +168,14 @@ void report_counts(const SceneBvh4& bvh, const std::vector<Ray>& rays, Queues& q
     const size_t e = std::min(rays.size(), b + setup.queue);
     if (setup.single) {
       for (size_t i = b; i < e; ++i) {
-        if (setup.occluded) q.blocked[i] = bvh.occluded(rays[i], c);
-        else bvh.intersect(rays[i], hits[i], c);
+        if (setup.occluded) q.blocked[i] = bvh.occluded(rays[i], &c);
+        else bvh.intersect(rays[i], hits[i], &c);
       }
     } else if (setup.occluded) {
       std::fill(q.blocked.begin() + b, q.blocked.begin() + e, 0);
-      bvh.occluded(q.rays(b, e), q.blocked.data() + b, scratch, c);
+      bvh.occluded_queue(q.rays(b, e), q.blocked.data() + b, scratch, &c);
     } else {
-      bvh.intersect(q.rays(b, e), q.hits(b), scratch, c);
+      bvh.intersect_queue(q.rays(b, e), q.hits(b), scratch, &c);
     }
   }
   const double n = double(std::max<size_t>(rays.size(), 1));

@@ -24,11 +24,10 @@ struct alignas(64) Bvh4Node {
 };
 static_assert(sizeof(Bvh4Node) == 128 && alignof(Bvh4Node) == 64);
 
-/// 160 bytes, 32-byte aligned: four triangles as SoA rows (row[axis][lane]).
-/// In Moller-Trumbore form the rows are v0, e1 = v1 - v0, e2 = v2 - v0; in
-/// watertight form v0, v1, v2. Vertex order is the scene's, so barycentric u
-/// weights v1 and v weights v2. Padding lanes are degenerate (never hit) and
-/// carry kInvalidId.
+/// 160 bytes, 32-byte aligned: four triangles as SoA rows (row[axis][lane]):
+/// v0, e1 = v1 - v0, e2 = v2 - v0, the Moller-Trumbore test's. Vertex order
+/// is the scene's, so barycentric u weights v1 and v weights v2. Padding
+/// lanes are degenerate (never hit) and carry kInvalidId.
 struct alignas(32) TriangleBlock4 {
   float v0[3][4];    ///< 48 B
   float r1[3][4];    ///< 48 B: e1 or v1
@@ -36,8 +35,6 @@ struct alignas(32) TriangleBlock4 {
   uint32_t prim[4];  ///< 16 B: triangle index in the input, or kInvalidId
 };
 static_assert(sizeof(TriangleBlock4) == 160 && alignof(TriangleBlock4) == 32);
-
-enum class TriangleForm : uint32_t { kMollerTrumbore, kWatertight };
 
 /// Child references (uint32). An inner node is referenced by its byte offset
 /// in the node array (a multiple of 128, bit 0 clear). A leaf by the byte
@@ -66,7 +63,6 @@ struct Bvh4 {
   std::vector<Bvh4Node, HugePageAllocator<Bvh4Node>> nodes;
   std::vector<TriangleBlock4, HugePageAllocator<TriangleBlock4>> blocks;
   uint32_t root = bvh4_ref::kEmptyRef;
-  TriangleForm form = TriangleForm::kMollerTrumbore;
 
   bool empty() const { return blocks.empty(); }
   /// Bytes of nodes and leaf blocks.

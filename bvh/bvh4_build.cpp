@@ -65,10 +65,9 @@ Inputs gather_inputs(std::span<const float3> positions, std::span<const Triangle
   return in;
 }
 
-/// Writes one lane of a block: the triangle's rows in the requested form.
-void write_lane(TriangleBlock4& b, int lane, const float3& p0, const float3& p1, const float3& p2, TriangleForm form) {
-  float3 r1 = form == TriangleForm::kWatertight ? p1 : p1 - p0;
-  float3 r2 = form == TriangleForm::kWatertight ? p2 : p2 - p0;
+/// Writes one lane of a block: the triangle's rows v0, e1, e2.
+void write_lane(TriangleBlock4& b, int lane, const float3& p0, const float3& p1, const float3& p2) {
+  const float3 r1 = p1 - p0, r2 = p2 - p0;
   for (int a = 0; a < 3; ++a) {
     b.v0[a][lane] = p0[a];
     b.r1[a][lane] = r1[a];
@@ -89,8 +88,8 @@ void fill_blocks(Bvh4& bvh, const std::vector<uint32_t>& block_prims, const std:
         uint32_t id = in.ids[ref_triangle[p != kInvalidId ? p : block_prims[4 * k]]];
         const TriangleIndices& t = triangles[id];
         const float3& p0 = positions[t.v0];
-        if (p == kInvalidId) write_lane(b, lane, p0, p0, p0, bvh.form);
-        else write_lane(b, lane, p0, positions[t.v1], positions[t.v2], bvh.form);
+        if (p == kInvalidId) write_lane(b, lane, p0, p0, p0);
+        else write_lane(b, lane, p0, positions[t.v1], positions[t.v2]);
         b.prim[lane] = p != kInvalidId ? id : kInvalidId;
       }
     }
@@ -109,7 +108,6 @@ Bvh4 build_bvh4(std::span<const float3> positions, std::span<const TriangleIndic
                 const Bvh4Options& options, Bvh4BuildStats* stats) {
   auto start = std::chrono::steady_clock::now();
   Bvh4 bvh;
-  bvh.form = options.watertight ? TriangleForm::kWatertight : TriangleForm::kMollerTrumbore;
   SahBuildOptions sah = options.sah;
   CollapseCosts collapse = options.collapse;
   sah.max_leaf_size = std::clamp<uint32_t>(sah.max_leaf_size, 1, 4 * bvh4_ref::kMaxLeafBlocks);

@@ -31,8 +31,7 @@ inline constexpr size_t kL1ResidentTriangles = 32 * 1024 / 56;
 /// nodes per shadow ray; 1.4-1.8x the shadow rays per second, 1.1-1.3x the
 /// others).
 struct Bvh4Options {
-  int threads = 0;          ///< build threads; 0: all available
-  bool watertight = false;  ///< leaves for the watertight test instead of Moller-Trumbore
+  int threads = 0;  ///< build threads; 0: all available
   SahBuildOptions sah{.bins = 32, .max_leaf_size = 1, .leaf_block = 4, .traversal_cost = 1.0f, .ray_length = 0.5f};
   /// The collapse's costs. In a scene of at most kL1ResidentTriangles build
   /// references, l1_resident_block_cost (when not 0) replaces `block`: set it

@@ -1,11 +1,11 @@
-// The BVH4 overlays' queries: slots by depth, and a scalar closest-hit walk
-// that records what it visits.
+// The BVH4 overlays' queries: slots by depth, and the record of a walk.
 #include "bvh4_inspect.h"
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
-#include "triangle4_intersect.h"
+#include "bvh4_query_table.h"
 
 namespace pt {
 namespace {
@@ -33,10 +33,9 @@ BBox root_box(const Bvh4& bvh) {
       float3 v0{blocks[k].v0[0][lane], blocks[k].v0[1][lane], blocks[k].v0[2][lane]};
       float3 r1{blocks[k].r1[0][lane], blocks[k].r1[1][lane], blocks[k].r1[2][lane]};
       float3 r2{blocks[k].r2[0][lane], blocks[k].r2[1][lane], blocks[k].r2[2][lane]};
-      bool edges = bvh.form == TriangleForm::kMollerTrumbore;
       b.expand(v0);
-      b.expand(edges ? v0 + r1 : r1);
-      b.expand(edges ? v0 + r2 : r2);
+      b.expand(v0 + r1);
+      b.expand(v0 + r2);
     }
   return b;
 }
@@ -64,140 +63,36 @@ int max_depth_below(const Bvh4& bvh, uint32_t ref, int depth) {
   return deepest;
 }
 
-/// The node test's per-ray constants and its slab test, one child at a time.
-struct SlabRay {
-  float rdir[3], org_rdir[3], tmin;
-  bool fused;
-
-  SlabRay(const Ray& r, bool fused_mul_sub) : tmin(r.tmin), fused(fused_mul_sub) {
-    for (int a = 0; a < 3; ++a) {
-      float d = r.dir[a];
-      constexpr float kMinDir = 1e-18f;  // as NodeRay clamps
-      float safe = std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d;
-      rdir[a] = 1.0f / safe;
-      org_rdir[a] = r.org[a] * rdir[a];
-    }
-  }
-  float plane(float p, int a) const { return fused ? std::fma(p, rdir[a], -org_rdir[a]) : p * rdir[a] - org_rdir[a]; }
-  /// Whether the ray meets slot i within [tmin, tmax]; its entry distance in `tnear`.
-  bool hits(const Bvh4Node& n, int i, float tmax, float& tnear) const {
-    float tn = tmin, tf = tmax;
-    for (int a = 0; a < 3; ++a) {
-      float lo = plane(n.bounds[2 * a][i], a), hi = plane(n.bounds[2 * a + 1][i], a);
-      bool positive = rdir[a] >= 0.0f;
-      tn = std::max(tn, positive ? lo : hi);
-      tf = std::min(tf, positive ? hi : lo);
-    }
-    tnear = tn;
-    return tn <= tf;
-  }
-};
-
-struct Pending {
-  uint32_t ref;
-  float dist;
-  BBox box;
-  uint32_t depth;
-};
-
-/// Orders two entries so that the nearer one ends up later (on top).
-void order_far_first(Pending& a, Pending& b) {
-  if (a.dist < b.dist) std::swap(a, b);
-}
-
-/// The children hit, in slot order: the one to descend into next, the others
-/// pushed as the traversal pushes them (one: none; two: the farther, the
-/// first slot winning a tie; three or four: sorted by the same networks).
-Pending nearest_and_push_rest(Pending* hit, int count, std::vector<Pending>& stack) {
-  if (count == 1) return hit[0];
-  if (count == 2) {
-    bool first_near = hit[0].dist <= hit[1].dist;
-    stack.push_back(first_near ? hit[1] : hit[0]);
-    return first_near ? hit[0] : hit[1];
-  }
-  if (count == 3) {
-    order_far_first(hit[0], hit[1]);
-    order_far_first(hit[1], hit[2]);
-    order_far_first(hit[0], hit[1]);
-  } else {
-    order_far_first(hit[0], hit[1]);
-    order_far_first(hit[2], hit[3]);
-    order_far_first(hit[0], hit[2]);
-    order_far_first(hit[1], hit[3]);
-    order_far_first(hit[1], hit[2]);
-  }
-  for (int k = 0; k + 1 < count; ++k) stack.push_back(hit[k]);
-  return hit[count - 1];
-}
-
-class Walker {
+/// Records a walk's visits: each node and leaf with its slot's box and
+/// depth, known once its parent has been visited (the root: the union of its
+/// children, depth 0).
+class WalkRecord {
  public:
-  Walker(const Bvh4& bvh, const Ray& ray, bool fused, size_t max_visits)
-      : bvh_(bvh), ray_(ray), slab_(ray, fused), mt_(ray), max_visits_(max_visits) {}
-
-  Bvh4Walk run() {
-    walk_.hit = Hit{ray_.tmax, 0.0f, 0.0f, kInvalidId};
-    tmax_ = ray_.tmax;
-    std::vector<Pending> stack;
-    Pending cur{bvh_.root, 0.0f, root_box(bvh_), 0};
-    for (;;) {
-      while (!bvh4_ref::is_leaf(cur.ref)) {
-        record(cur, false);
-        ++walk_.inner_nodes;
-        const Bvh4Node& n = bvh_.node(cur.ref);
-        Pending hit[4];
-        int count = 0;
-        for (int i = 0; i < 4; ++i) {
-          float d = 0.0f;
-          if (slot_used(n, i) && slab_.hits(n, i, tmax_, d))
-            hit[count++] = {n.child[i], d, slot_box(n, i), cur.depth + 1};
-        }
-        if (count == 0) goto pop;
-        cur = nearest_and_push_rest(hit, count, stack);
-      }
-      record(cur, true);
-      ++walk_.leaves;
-      test_leaf(cur.ref);
-    pop:
-      do {
-        if (stack.empty()) return walk_;
-        cur = stack.back();
-        stack.pop_back();
-      } while (cur.dist > tmax_);
-    }
+  WalkRecord(const Bvh4& bvh, size_t max_visits) : bvh_(bvh), max_visits_(max_visits) {
+    slot_[bvh.root] = {root_box(bvh), 0};
   }
+  static void visit(void* self, uint32_t ref) { static_cast<WalkRecord*>(self)->visit(ref); }
+  Bvh4Walk& walk() { return walk_; }
 
  private:
-  void record(const Pending& p, bool leaf) {
-    if (walk_.visits.size() < max_visits_) walk_.visits.push_back({p.box, p.depth, leaf ? 1u : 0u});
-  }
-  void test_leaf(uint32_t ref) {
-    const TriangleBlock4* blocks = bvh_.leaf_blocks(ref);
-    for (uint32_t k = 0; k < bvh4_ref::leaf_block_count(ref); ++k) {
-      BlockHits h;
-      vfloat4 vtmax(tmax_);
-      uint32_t mask = bvh_.form == TriangleForm::kMollerTrumbore
-                          ? intersect_block_mt(blocks[k], mt_, vtmax, h)
-                          : intersect_block_watertight(blocks[k], WatertightBlockRay(ray_), vtmax, h);
-      if (mask == 0) continue;
-      alignas(16) float t[4], u[4], v[4];
-      h.t.store_aligned(t);
-      h.u.store_aligned(u);
-      h.v.store_aligned(v);
-      int lane = 0;
-      for (int i = 1; i < 4; ++i)
-        if (t[i] < t[lane]) lane = i;
-      tmax_ = t[lane];
-      walk_.hit = {t[lane], u[lane], v[lane], blocks[k].prim[lane]};
-    }
+  struct Slot {
+    BBox box;
+    uint32_t depth;
+  };
+  void visit(uint32_t ref) {
+    const Slot slot = slot_.at(ref);
+    const bool leaf = bvh4_ref::is_leaf(ref);
+    if (walk_.visits.size() < max_visits_) walk_.visits.push_back({slot.box, slot.depth, leaf ? 1u : 0u});
+    ++(leaf ? walk_.leaves : walk_.inner_nodes);
+    if (leaf) return;
+    const Bvh4Node& n = bvh_.node(ref);
+    for (int i = 0; i < 4; ++i)
+      if (slot_used(n, i)) slot_[n.child[i]] = {slot_box(n, i), slot.depth + 1};
   }
 
   const Bvh4& bvh_;
-  const Ray& ray_;
-  SlabRay slab_;
-  MtBlockRay mt_;
   size_t max_visits_;
-  float tmax_ = 0.0f;
+  std::unordered_map<uint32_t, Slot> slot_;
   Bvh4Walk walk_;
 };
 
@@ -217,15 +112,20 @@ Bvh4Level bvh4_level(const Bvh4& bvh, int depth, size_t max_boxes) {
 
 int bvh4_max_depth(const Bvh4& bvh) { return bvh.empty() ? -1 : max_depth_below(bvh, bvh.root, 0); }
 
-Bvh4Walk walk_bvh4(const Bvh4& bvh, const Ray& ray, bool fused, size_t max_visits) {
+Bvh4Walk walk_bvh4(const SceneBvh4& bvh, const Ray& ray, size_t max_visits) {
   const bool traceable =
       is_finite(ray.org) && is_finite(ray.dir) && !std::isnan(ray.tmin) && !std::isnan(ray.tmax) && ray.tmin < ray.tmax;
-  if (bvh.empty() || !traceable) {
+  Hit hit{ray.tmax, 0.0f, 0.0f, kInvalidId};
+  if (bvh.bvh().empty() || !traceable) {
     Bvh4Walk none;
-    none.hit = Hit{ray.tmax, 0.0f, 0.0f, kInvalidId};
+    none.hit = hit;
     return none;
   }
-  return Walker(bvh, ray, fused, max_visits).run();
+  WalkRecord record(bvh.bvh(), max_visits);
+  TraversalCounters counters;
+  bvh4_query_table(bvh.isa()).walk_tree(bvh, ray, hit, counters, WalkRecord::visit, &record);
+  record.walk().hit = hit;
+  return std::move(record.walk());
 }
 
 }  // namespace pt

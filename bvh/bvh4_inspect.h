@@ -1,10 +1,8 @@
 // Looking into the 4-wide BVH for the live view's overlays: the boxes of the
 // child slots at one depth, and the walk of one ray, the inner nodes a
-// closest-hit traversal tests and the leaves it opens, in order. The walk
-// applies the traversal's rules (children nearest entry first, one hit child
-// descended without the stack, subtrees popped only while their entry is not
-// beyond the nearest hit) in plain code compiled once, so it is an account of
-// the traversal for display, not the fast path.
+// closest-hit traversal tests and the leaves it opens, in order. The walk is
+// the renderer's own (bvh4_ray_walk.h, at the level the BVH's queries run
+// at), which reports each node and leaf it takes.
 #pragma once
 
 #include <cstddef>
@@ -12,6 +10,7 @@
 #include <vector>
 
 #include "bvh4.h"
+#include "scene_bvh4.h"
 #include "kernels/math/bbox.h"
 #include "kernels/math/ray.h"
 
@@ -47,9 +46,8 @@ struct Bvh4Walk {
   Hit hit;                        ///< nearest triangle hit (prim kInvalidId: none)
 };
 
-/// The closest-hit walk of `ray` from the root. `fused`: the node test's
-/// plane distances rounded once (x * y - z fused, as levels with FMA compute
-/// them) or twice, so that ties and prunes fall as in the engine's level.
-Bvh4Walk walk_bvh4(const Bvh4& bvh, const Ray& ray, bool fused, size_t max_visits);
+/// The closest-hit walk of `ray` from the root of `bvh`'s tree (its
+/// triangles; spheres are not in the tree), as its queries walk it.
+Bvh4Walk walk_bvh4(const SceneBvh4& bvh, const Ray& ray, size_t max_visits);
 
 }  // namespace pt

@@ -64,5 +64,75 @@ PT_ALWAYS_INLINE uint32_t intersect_node(const Bvh4Node& node, const NodeRay& r,
   return movemask(tnear <= tfar);
 }
 
+#if PT_PER_LEVEL
+/// K rays' slab constants (NodeRay's, lane by lane) and their [tmin, tmax].
+struct NodeLanes {
+  vfloatK rdir[3], org_rdir[3], tmin, tmax;
+};
+
+/// Which of K rays enter child c of `node`, and their entry distances in
+/// `tnear`: each axis's two planes ordered lane by lane (rays of any
+/// directions).
+PT_ALWAYS_INLINE vboolK lanes_enter_child(const Bvh4Node& node, int c, const NodeLanes& r, vfloatK& tnear) {
+  vfloatK tn = r.tmin, tf = r.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const vfloatK t0 = fused_mul_sub_k(vfloatK(node.bounds[2 * a][c]), r.rdir[a], r.org_rdir[a]);
+    const vfloatK t1 = fused_mul_sub_k(vfloatK(node.bounds[2 * a + 1][c]), r.rdir[a], r.org_rdir[a]);
+    tn = xsimd::max(tn, xsimd::min(t0, t1));
+    tf = xsimd::min(tf, xsimd::max(t0, t1));
+  }
+  tnear = tn;
+  return tn <= tf;
+}
+
+/// The near and far plane rows (0-5, as intersect_node takes them) of each
+/// axis for rays of one direction octant: bit a of `octant` set where the
+/// reciprocal direction on axis a is negative.
+struct OctantPlanes {
+  uint32_t near[3], far[3];
+  OctantPlanes() : OctantPlanes(0) {}
+  explicit OctantPlanes(uint32_t octant) {
+    for (uint32_t a = 0; a < 3; ++a) {
+      const bool negative = (octant >> a & 1) != 0;
+      near[a] = 2 * a + (negative ? 1 : 0);
+      far[a] = 2 * a + (negative ? 0 : 1);
+    }
+  }
+};
+
+/// lanes_enter_child for K rays of one direction octant: each axis's near and
+/// far plane as intersect_node takes them, which need no min and max.
+PT_ALWAYS_INLINE vboolK lanes_enter_child(const Bvh4Node& node, int c, const NodeLanes& r, const OctantPlanes& p,
+                                          vfloatK& tnear) {
+  auto plane = [&](uint32_t row, int a) {
+    return fused_mul_sub_k(vfloatK(node.bounds[row][c]), r.rdir[a], r.org_rdir[a]);
+  };
+  tnear = xsimd::max(xsimd::max(plane(p.near[0], 0), plane(p.near[1], 1)), xsimd::max(plane(p.near[2], 2), r.tmin));
+  const vfloatK tfar =
+      xsimd::min(xsimd::min(plane(p.far[0], 0), plane(p.far[1], 1)), xsimd::min(plane(p.far[2], 2), r.tmax));
+  return tnear <= tfar;
+}
+
+/// NodeRay's constants of K rays: the reciprocal direction (tiny components
+/// clamped, as NodeRay clamps them) and the origin times it.
+PT_ALWAYS_INLINE void slab_constants(const vfloatK (&org)[3], const vfloatK (&dir)[3], vfloatK (&rdir)[3],
+                                     vfloatK (&org_rdir)[3]) {
+  const vfloatK min_dir(NodeRay::kMinDir);
+  for (int a = 0; a < 3; ++a) {
+    const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
+    rdir[a] = vfloatK(1.0f) / safe;
+    org_rdir[a] = org[a] * rdir[a];
+  }
+}
+
+/// The lanes of K rays that are traceable (ray_is_traceable's test).
+PT_ALWAYS_INLINE vboolK lanes_traceable(const vfloatK (&org)[3], const vfloatK (&dir)[3], const vfloatK& tmin,
+                                        const vfloatK& tmax) {
+  vboolK ok = tmin < tmax;  // false for NaN
+  for (int a = 0; a < 3; ++a) ok = ok & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
+  return ok;
+}
+#endif
+
 }  // namespace PT_ISA_NS
 }  // namespace pt

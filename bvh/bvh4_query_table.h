@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <span>
 
 #include "kernels/simd/isa.h"
 #include "kernels/math/ray.h"
@@ -19,16 +18,15 @@ class SceneBvh4;
 /// Queries as SceneBvh4 documents them; `counters` may be null.
 struct Bvh4QueryTable {
   Isa isa;
-  uint32_t packet_lanes;
   bool (*intersect)(const SceneBvh4&, const Ray&, Hit&, TraversalCounters* counters);
   bool (*occluded)(const SceneBvh4&, const Ray&, TraversalCounters* counters);
-  void (*intersect_each)(const SceneBvh4&, std::span<const Ray>, std::span<Hit>);
-  void (*occluded_each)(const SceneBvh4&, std::span<const Ray>, std::span<uint8_t>);
-  void (*intersect_packets)(const SceneBvh4&, std::span<const Ray>, std::span<Hit>);
-  void (*intersect_packet)(const SceneBvh4&, const Ray*, Hit*, uint32_t lanes);
-  uint32_t (*occluded_packet)(const SceneBvh4&, const Ray*, uint32_t lanes);
   void (*intersect_queue)(const SceneBvh4&, const RayArrays&, const HitArrays&, QueueScratch&, TraversalCounters*);
   void (*occluded_queue)(const SceneBvh4&, const RayArrays&, uint8_t*, QueueScratch&, TraversalCounters*);
+  /// The closest-hit walk of one traceable ray through the tree alone (no
+  /// spheres) into `hit`: visit(context, ref) hears of every node and leaf
+  /// it takes, in order (walk_bvh4, bvh4_inspect.h).
+  void (*walk_tree)(const SceneBvh4&, const Ray&, Hit& hit, TraversalCounters& counters,
+                    void (*visit)(void* context, uint32_t ref), void* context);
 };
 
 /// The table of a level compiled into this binary (IsaError otherwise).

@@ -1,28 +1,21 @@
 // A whole queue of rays through the 4-wide BVH at once (dynamic ray stream
-// traversal, after Barringer and Akenine-Moller 2014): the rays that reach a
-// node form a list; each child box is tested against all of them, K rays per
-// SIMD instruction, and the rays that enter it are compacted into the child's
-// list, each with the constants of its slab test, so that the next level
-// loads them as vectors. A leaf that many rays reach tests each of its
-// triangles against K rays at a time; a chunk of K/2 rays or fewer takes it
-// ray by ray, through the walks' own leaf tests (one or two blocks per test).
-// The rays of a list that has thinned
-// below kStreamMinRays go on alone from that node: their walks are collected
-// and run kWalksInFlight at a time, interleaved (bvh4_interleaved.h), each
-// under its ray's nearest hit at the time it starts. For any hit, a part of
-// at most 64 rays writes no lists: its rays keep their lanes and a node on
-// the stack carries a mask of the rays that enter it (occluded_masked_part).
-// An any-hit queue whose rays all have one direction (a directional light's
-// shadow rays) computes each leaf triangle's direction terms once per visit
-// for all its rays, and tests nodes with the direction's slab constants and
-// near and far planes, its lists carrying no reciprocal directions
-// (QueueDirection). Every ray gets the hit it gets alone,
-// bit for bit: the triangle test does
-// the same operations per lane as the block test, and a leaf's triangles are
-// taken in the block test's order, each block's four under the nearest t from
-// before it, as the block test takes them. Only which of two different
-// triangles at exactly the same t is reported may differ, as with packets.
-// Moller-Trumbore leaves only.
+// traversal, after Barringer and Akenine-Moller 2014), for closest hit and
+// any hit alike (kAnyHit): the rays that reach a node form a list; each
+// child box is tested against all of them, K rays per SIMD instruction, and
+// the rays that enter it are compacted into the child's list, each with the
+// constants of its slab test, so that the next level loads them as vectors.
+// A leaf tests each of its triangles against K rays at a time (leaf_lanes);
+// a chunk of K/2 rays or fewer takes it ray by ray, through the walks' own
+// leaf test. The rays of a list that has thinned below kStreamMinRays go on
+// alone from that node: their walks are collected and run kWalksInFlight at
+// a time, taking turns (bvh4_interleaved.h), each under its ray's nearest
+// hit at the time it starts. An any-hit queue whose rays all have one
+// direction (a directional light's shadow rays) computes each leaf
+// triangle's direction terms once per visit for all its rays, and tests
+// nodes with the direction's slab constants and octant planes, its lists
+// carrying no reciprocal directions (QueueDirection). Every ray gets the hit
+// it gets alone, bit for bit: the node and leaf tests are the single ray's,
+// lane by lane. Moller-Trumbore leaves.
 #pragma once
 
 #include <algorithm>
@@ -31,11 +24,13 @@
 #include <cmath>
 #include <cstdint>
 
-#include "kernels/simd/isa_namespace.h"
 #include "bvh4_interleaved.h"
-#include "bvh4_traverse.h"
+#include "bvh4_leaf_test.h"
+#include "bvh4_node_test.h"
+#include "bvh4_ray_walk.h"
 #include "kernels/math/ray_arrays.h"
-#include "queue_prefetch.h"
+#include "kernels/simd/isa_namespace.h"
+#include "queue_lanes.h"
 #include "queue_scratch.h"
 
 #if !PT_PER_LEVEL
@@ -130,50 +125,17 @@ inline bool has_tmin(const RayArrays& rays) {
   return false;
 }
 
-/// Lane l of K values of a part's array from index i: a[i + l], or the last
-/// ray's value for lanes past the part's end.
-PT_ALWAYS_INLINE vfloatK load_part_lanes(const float* a, size_t i, size_t size) {
-  if (i + kLanes <= size) return vfloatK::load_unaligned(a + i);
-  alignas(64) float tail[kLanes];
-  for (size_t l = 0; l < kLanes; ++l) tail[l] = a[std::min(i + l, size - 1)];
-  return vfloatK::load_aligned(tail);
-}
-
-/// K rays of a part from ray i: their slab constants as NodeRay computes
-/// them, their tmin, and which of them are traceable (lanes past the end
-/// repeat the last ray; the caller masks them off).
-struct SlabLanes {
-  vfloatK rdir[3], org_rdir[3], tmin;
-  vboolK traceable;
-};
-PT_ALWAYS_INLINE SlabLanes slab_lanes(const RayArrays& rays, size_t i) {
-  auto load = [&](const float* a) { return load_part_lanes(a, i, rays.size); };
-  SlabLanes r;
-  vfloatK org[3], dir[3];
-  for (int a = 0; a < 3; ++a) org[a] = load(rays.org[a]), dir[a] = load(rays.dir[a]);
-  r.tmin = rays.tmin ? load(rays.tmin) : vfloatK(0.0f);
-  r.traceable = r.tmin < load(rays.tmax);  // false for NaN
-  for (int a = 0; a < 3; ++a) r.traceable = r.traceable & xsimd::isfinite(org[a]) & xsimd::isfinite(dir[a]);
-  const vfloatK min_dir(NodeRay::kMinDir);
-  for (int a = 0; a < 3; ++a) {
-    const vfloatK safe = xsimd::select(xsimd::abs(dir[a]) < min_dir, xsimd::copysign(min_dir, dir[a]), dir[a]);
-    r.rdir[a] = vfloatK(1.0f) / safe;
-    r.org_rdir[a] = org[a] * r.rdir[a];
-  }
-  return r;
-}
-
 /// Whether every ray of a queue has one direction, bit for bit (a
 /// directional light's shadow rays), and which: then leaves compute each
 /// triangle's direction terms once per visit for all its rays, and take the
 /// direction as a broadcast instead of each ray's; node tests take the
-/// direction's slab constants as broadcasts and each axis's near and far
-/// plane (as NodeRay does), and lists carry no reciprocal directions.
+/// direction's slab constants as broadcasts and its octant's near and far
+/// planes, and lists carry no reciprocal directions.
 struct QueueDirection {
   bool shared = false;
   float dir[3] = {0.0f, 0.0f, 0.0f};
-  float rdir[3] = {0.0f, 0.0f, 0.0f};                ///< NodeRay's reciprocal direction
-  uint32_t near[3] = {0, 2, 4}, far[3] = {1, 3, 5};  ///< the bounds rows of each axis's near and far planes
+  float rdir[3] = {0.0f, 0.0f, 0.0f};  ///< NodeRay's reciprocal direction
+  OctantPlanes planes;                 ///< the direction's near and far plane rows
   /// The direction repeated over the lanes of V.
   template <class V>
   PT_ALWAYS_INLINE void lanes(V (&d)[3]) const {
@@ -184,29 +146,28 @@ inline QueueDirection direction_of(const RayArrays& rays) {
   QueueDirection q;
   if (rays.size == 0) return q;
   for (size_t i = 0; i < rays.size; i += kLanes) {
-    const vboolK same = same_bits(load_part_lanes(rays.dir[0], i, rays.size), rays.dir[0][0]) &
-                        same_bits(load_part_lanes(rays.dir[1], i, rays.size), rays.dir[1][0]) &
-                        same_bits(load_part_lanes(rays.dir[2], i, rays.size), rays.dir[2][0]);
+    const vboolK same = same_bits(load_queue_lanes(rays.dir[0], i, rays.size), rays.dir[0][0]) &
+                        same_bits(load_queue_lanes(rays.dir[1], i, rays.size), rays.dir[1][0]) &
+                        same_bits(load_queue_lanes(rays.dir[2], i, rays.size), rays.dir[2][0]);
     if (lane_mask(same) != lanes_below(kLanes)) return q;
   }
   q.shared = true;
+  uint32_t octant = 0;
   for (int a = 0; a < 3; ++a) {
     const float d = rays.dir[a][0];
     q.dir[a] = d;
     const float safe = std::fabs(d) < NodeRay::kMinDir ? std::copysign(NodeRay::kMinDir, d) : d;
-    const float inv = 1.0f / safe;  // slab_lanes' and NodeRay's
-    q.rdir[a] = inv;
-    q.near[a] = inv >= 0.0f ? 2 * a : 2 * a + 1;
-    q.far[a] = inv >= 0.0f ? 2 * a + 1 : 2 * a;
+    q.rdir[a] = 1.0f / safe;  // slab_constants' and NodeRay's
+    octant |= uint32_t(q.rdir[a] < 0.0f) << a;
   }
+  q.planes = OctantPlanes(octant);
   return q;
 }
 
 /// How far ahead of the chunk it lists root_list starts loading the part's
-/// arrays: sixteen chunks of 16 rays, which cover the L3 latency. A render's
-/// queue is written by shading well before it is traced and no longer sits
-/// in the 1 MiB L2 (a CBbunny wave's first-hit shadow queue is 1.2 MB), and
-/// the hardware's stream prefetchers fall behind eight arrays read at once.
+/// arrays: sixteen chunks of 16 rays. A render's queue is written by shading
+/// well before it is traced and may no longer sit in L2, and the hardware's
+/// stream prefetchers fall behind eight arrays read at once.
 inline constexpr size_t kRootPrefetchRays = 256;
 
 /// Lists the traceable rays of the part, in queue order, with their slab
@@ -223,9 +184,8 @@ inline ListEntry root_list(const Bvh4& bvh, const RayArrays& rays, ListArena& ar
   uint32_t count = 0;
   for (size_t i = 0; i < rays.size; i += kLanes) {
     if (i % 16 == 0) prefetch_queue_rays(rays, i + kRootPrefetchRays);
-    const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
-    const SlabLanes r = slab_lanes(rays, i);
-    const uint32_t m = lane_mask(r.traceable) & valid;
+    const QueueLanes r(rays, i);
+    const uint32_t m = r.traceable;
     if (m == 0) continue;
     store_compressed(reinterpret_cast<int32_t*>(out[kId] + count), m, vintK(static_cast<int32_t>(i)) + lane_index());
     for (int a = 0; a < 3; ++a) {
@@ -238,37 +198,6 @@ inline ListEntry root_list(const Bvh4& bvh, const RayArrays& rays, ListArena& ar
   return {bvh.root, 0, count, room, kFields * room};
 }
 
-/// Slab-test constants of K listed rays.
-struct NodeLanes {
-  vfloatK rdir[3], org_rdir[3], tmin, tmax;
-};
-
-/// Entry distances of K rays into child c, and which of them enter it.
-PT_ALWAYS_INLINE vboolK child_test(const Bvh4Node& node, int c, const NodeLanes& r, vfloatK& tnear) {
-  vfloatK tn = r.tmin, tf = r.tmax;
-  for (int a = 0; a < 3; ++a) {
-    vfloatK t0 = fused_mul_sub_k(vfloatK(node.bounds[2 * a][c]), r.rdir[a], r.org_rdir[a]);
-    vfloatK t1 = fused_mul_sub_k(vfloatK(node.bounds[2 * a + 1][c]), r.rdir[a], r.org_rdir[a]);
-    tn = xsimd::max(tn, xsimd::min(t0, t1));
-    tf = xsimd::min(tf, xsimd::max(t0, t1));
-  }
-  tnear = tn;
-  return tn <= tf;
-}
-/// Which of K rays of one direction (`qd`) enter child c: each axis's near
-/// and far plane taken as the single ray's node test takes them
-/// (intersect_node), so the two planes' distances need no min and max.
-PT_ALWAYS_INLINE vboolK child_test(const Bvh4Node& node, int c, const NodeLanes& r, const QueueDirection& qd) {
-  auto plane = [&](uint32_t row, int a) {
-    return fused_mul_sub_k(vfloatK(node.bounds[row][c]), r.rdir[a], r.org_rdir[a]);
-  };
-  const vfloatK tn =
-      xsimd::max(xsimd::max(plane(qd.near[0], 0), plane(qd.near[1], 1)), xsimd::max(plane(qd.near[2], 2), r.tmin));
-  const vfloatK tf =
-      xsimd::min(xsimd::min(plane(qd.far[0], 0), plane(qd.far[1], 1)), xsimd::min(plane(qd.far[2], 2), r.tmax));
-  return tn <= tf;
-}
-
 /// Rays a queue is traced in at most at once: longer queues go in parts of
 /// this many (the lists of a part stay in the first levels of the cache).
 inline constexpr uint32_t kMaxStreamRays = 4096;
@@ -276,8 +205,8 @@ inline constexpr uint32_t kMaxStreamRays = 4096;
 /// Rays of a list whose entry distances order the children for closest hits
 /// (the list's first chunks): at levels with 16 vector registers, the
 /// distances summed over every chunk spill the chunk test's registers, and a
-/// sample of 16 rays orders the children about as well (paired runs in
-/// docs/bvh_and_benchmarks.md); AVX-512's 32 registers take every chunk.
+/// sample of 16 rays orders the children about as well; AVX-512's 32
+/// registers take every chunk.
 inline constexpr uint32_t kOrderSampleChunks = kLanes == 16 ? kMaxStreamRays / kLanes : 16 / kLanes;
 
 /// Splits the list of entry e over the children of its node and pushes the
@@ -324,9 +253,10 @@ PT_ALWAYS_INLINE void split_node(const Bvh4& bvh, const ListEntry& e, ListArena&
     r.tmax = listed_lanes(live_tmax, id);
     for (int k = 0; k < 4; ++k) {
       vfloatK tnear;
-      const uint32_t m = (child_ok >> k & 1)
-                             ? lane_mask(kShared ? child_test(node, k, r, qd) : child_test(node, k, r, tnear)) & valid
-                             : 0;
+      const uint32_t m = (child_ok >> k & 1) ? lane_mask(kShared ? lanes_enter_child(node, k, r, qd.planes, tnear)
+                                                                 : lanes_enter_child(node, k, r, tnear)) &
+                                                   valid
+                                             : 0;
       masks[j][k] = static_cast<uint16_t>(m);
       count[k] += std::popcount(m);
       if constexpr (kDist) dist[k] = dist[k] + xsimd::select(lanes_of_mask(m), tnear, vfloatK(0.0f));
@@ -383,182 +313,55 @@ PT_ALWAYS_INLINE void split_node(const Bvh4& bvh, const ListEntry& e, ListArena&
   }
 }
 
-/// The Moller-Trumbore constants of K listed rays.
-struct TriangleLanes {
-  vfloatK org[3], dir[3], tmin;
+/// What the walk of a part writes. Closest hit: each ray's hit, whose t is
+/// its nearest hit so far. Any hit: each ray's tmax, -inf once blocked, and
+/// whether it is blocked.
+template <bool kAnyHit>
+struct PartAnswers;
+template <>
+struct PartAnswers<false> {
+  HitArrays hits;
+  const float* tmax() const { return hits.t; }
+  bool open(uint32_t) const { return true; }
+  Hit nearest(uint32_t i) const { return hits.load(i); }
+  /// Takes a walk's or a leaf's hit of ray i where it is nearer.
+  void take(uint32_t i, const Hit& h) const {
+    if (h.t < hits.t[i]) hits.store(i, h);
+  }
+};
+template <>
+struct PartAnswers<true> {
+  float* live_tmax;
+  uint8_t* blocked;
+  const float* tmax() const { return live_tmax; }
+  bool open(uint32_t i) const { return live_tmax[i] != -INFINITY; }
+  Hit nearest(uint32_t i) const { return {live_tmax[i], 0.0f, 0.0f, kInvalidId}; }
+  /// Ray i is blocked.
+  void take(uint32_t i, const Hit&) const {
+    live_tmax[i] = -INFINITY;
+    blocked[i] = 1;
+  }
 };
 
-/// Rays [i, i + K) of a part, all of direction `dir` (lanes past its end
-/// repeat its last ray).
-PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, const vfloatK (&dir)[3],
-                                                   vfloatK tmin) {
-  TriangleLanes r;
-  for (int a = 0; a < 3; ++a) {
-    r.org[a] = load_part_lanes(rays.org[a], i, rays.size);
-    r.dir[a] = dir[a];
-  }
-  r.tmin = tmin;
-  return r;
-}
-/// Rays [i, i + K) of a part, each of its own direction.
-PT_ALWAYS_INLINE TriangleLanes part_triangle_lanes(const RayArrays& rays, size_t i, vfloatK tmin) {
-  const vfloatK dir[3] = {load_part_lanes(rays.dir[0], i, rays.size), load_part_lanes(rays.dir[1], i, rays.size),
-                          load_part_lanes(rays.dir[2], i, rays.size)};
-  return part_triangle_lanes(rays, i, dir, tmin);
-}
-/// The listed rays' (listed_lanes), all of direction `dir`.
-PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id,
-                                                     const vfloatK (&dir)[3], vfloatK tmin) {
+/// The triangle-test constants of the listed rays (listed_lanes); `dir`,
+/// when not null, is the one direction of them all (QueueDirection).
+PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin,
+                                                     const vfloatK (*dir)[3]) {
   TriangleLanes r;
   for (int a = 0; a < 3; ++a) {
     r.org[a] = listed_lanes(rays.org[a], id);
-    r.dir[a] = dir[a];
+    r.dir[a] = dir ? (*dir)[a] : listed_lanes(rays.dir[a], id);
   }
   r.tmin = tmin;
   return r;
 }
-/// The listed rays', each of its own direction.
-PT_ALWAYS_INLINE TriangleLanes listed_triangle_lanes(const RayArrays& rays, const ListedIds& id, vfloatK tmin) {
-  const vfloatK dir[3] = {listed_lanes(rays.dir[0], id), listed_lanes(rays.dir[1], id), listed_lanes(rays.dir[2], id)};
-  return listed_triangle_lanes(rays, id, dir, tmin);
-}
 
-/// Triangle `lane` of block b against K rays (the block test's operations,
-/// with the triangle repeated over the rays): the lanes of `active` hit
-/// within [tmin, tmax).
-PT_ALWAYS_INLINE bool triangle_lanes(const TriangleBlock4& b, int lane, const TriangleLanes& r, vboolK active,
-                                     const vfloatK& tmax, LaneHits<vfloatK>& out) {
-  const TriangleRows<vfloatK> t(b, lane);
-  MtNumerators<vfloatK> n = mt_numerators(t.v0, t.e1, t.e2, r);
-  return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside & active, r.tmin, tmax, out,
-                      [](vboolK m) { return lane_mask(m) != 0; });
-}
-/// triangle_lanes for K rays of the one direction of the block's `terms`.
-PT_ALWAYS_INLINE bool triangle_lanes(const TriangleBlock4& b, const BlockDirectionTerms& terms, int lane,
-                                     const TriangleLanes& r, vboolK active, const vfloatK& tmax,
-                                     LaneHits<vfloatK>& out) {
-  const TriangleRows<vfloatK> t(b, lane);
-  MtNumerators<vfloatK> n = mt_numerators(t.v0, t.e1, t.e2, terms.of<vfloatK>(lane), r);
-  return finish_lanes(n.det, n.t_num, n.u_num, n.v_num, n.inside & active, r.tmin, tmax, out,
-                      [](vboolK m) { return lane_mask(m) != 0; });
-}
-
-template <class C>
-inline void count_leaf(C& counters, const TriangleBlock4* blocks, uint32_t n_blocks, uint32_t rays) {
-  if constexpr (C::kEnabled)
-    for (uint32_t b = 0; b < n_blocks; ++b)
-      for (int l = 0; l < 4; ++l) counters.primitives_tested(blocks[b].prim[l] != kInvalidId ? rays : 0);
-}
-
-/// Each of a leaf's triangles against K rays (the rays in `live` not yet in
-/// the returned mask), in block order, until every live ray is blocked: the
-/// rays blocked. kShared: through the blocks' direction `terms`.
-template <bool kShared, class C>
-PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks,
-                                        const BlockDirectionTerms* terms, const TriangleLanes& r, uint32_t live,
-                                        const vfloatK& tmax, C& counters) {
-  uint32_t hit = 0;
-  for (uint32_t b = 0; b < n_blocks && hit != live; ++b)
-    for (int l = 0; l < 4 && hit != live; ++l) {
-      if (blocks[b].prim[l] == kInvalidId) continue;
-      if constexpr (C::kEnabled) counters.primitives_tested(std::popcount(live & ~hit));
-      LaneHits<vfloatK> h;
-      const vboolK active = lanes_of_mask(live & ~hit);
-      bool any;
-      if constexpr (kShared) any = triangle_lanes(blocks[b], terms[b], l, r, active, tmax, h);
-      else any = triangle_lanes(blocks[b], l, r, active, tmax, h);
-      if (any) hit |= lane_mask(h.hit);
-    }
-  return hit;
-}
-/// blocked_lanes for a queue of one direction or not.
-template <class C>
-PT_ALWAYS_INLINE uint32_t blocked_lanes(const TriangleBlock4* blocks, uint32_t n_blocks, const TriangleLanes& r,
-                                        uint32_t live, const vfloatK& tmax, const QueueDirection& qd,
-                                        LeafDirectionTerms& leaf_terms, C& counters) {
-  if (qd.shared) {
-    vfloat4 dir[3];
-    qd.lanes(dir);
-    return blocked_lanes<true>(blocks, n_blocks, leaf_terms.get(blocks, n_blocks, dir), r, live, tmax, counters);
-  }
-  return blocked_lanes<false>(blocks, n_blocks, nullptr, r, live, tmax, counters);
-}
-
-/// Closest hits of the listed rays in a leaf, K rays at a time, every triangle
-/// in block order (a chunk of at most kLeafRaysAlone rays: ray by ray, as a
-/// walk tests the leaf); improves `hits` where nearer.
-template <bool kTmin, class C>
-inline void leaf_closest(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const HitArrays& hits,
-                         ListArena& arena, C& counters) {
-  const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
-  const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
-  const float* ids = arena.field(e, kId);
-  const float* tmins = kTmin ? arena.field(e, kTminField) : nullptr;
-  for (uint32_t i = 0; i < e.count; i += kLanes) {
-    const uint32_t rays_here = std::min<uint32_t>(kLanes, e.count - i);
-    if (rays_here <= kLeafRaysAlone) {  // each ray alone, under its nearest hit so far
-      const uint32_t* alone = arena.ids(e) + i;
-      for (uint32_t k = 0; k < rays_here; ++k) {
-        const MtBlockRay br(rays.ray(alone[k]));
-        Hit hit = hits.load(alone[k]);
-        const float t_start = hit.t;
-        float tmax = t_start;
-        vfloat4 vtmax(tmax);
-        intersect_leaf_closest<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, tmax, vtmax, hit, counters);
-        if (hit.t < t_start) hits.store(alone[k], hit);
-      }
-      continue;
-    }
-    count_leaf(counters, blocks, n_blocks, rays_here);
-    const uint32_t valid_lanes = lanes_below(rays_here);
-    const ListedIds listed = listed_ids(ids + i, valid_lanes);
-    const vintK id = listed.id;
-    const vboolK valid = lanes_of_mask(valid_lanes);
-    const TriangleLanes r =
-        listed_triangle_lanes(rays, listed, kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f));
-    vfloatK t = listed_lanes(hits.t, listed), u(0.0f), v(0.0f);
-    vintK prim(-1);
-    vboolK found(false);
-    for (uint32_t b = 0; b < n_blocks; ++b) {
-      // A block's four triangles under the nearest t from before the block,
-      // as the block test takes them (its tmax also enters the test before
-      // the division); the nearest of them wins, the first on a tie.
-      const vfloatK t_block = t;
-      for (int l = 0; l < 4; ++l) {
-        if (blocks[b].prim[l] == kInvalidId) continue;
-        LaneHits<vfloatK> h;
-        if (!triangle_lanes(blocks[b], l, r, valid, t_block, h)) continue;
-        const vboolK nearer = h.hit & (h.t < t);
-        t = xsimd::select(nearer, h.t, t);
-        u = xsimd::select(nearer, h.u, u);
-        v = xsimd::select(nearer, h.v, v);
-        prim = xsimd::select(xsimd::bool_cast(nearer), vintK(static_cast<int32_t>(blocks[b].prim[l])), prim);
-        found = found | nearer;
-      }
-    }
-    if (uint32_t m = lane_mask(found)) {
-      alignas(64) int32_t lane_id[kLanes], lane_prim[kLanes];
-      alignas(64) float lane_t[kLanes], lane_u[kLanes], lane_v[kLanes];
-      id.store_aligned(lane_id);
-      prim.store_aligned(lane_prim);
-      t.store_aligned(lane_t);
-      u.store_aligned(lane_u);
-      v.store_aligned(lane_v);
-      for (; m; m &= m - 1) {
-        uint32_t l = std::countr_zero(m);
-        hits.store(static_cast<uint32_t>(lane_id[l]),
-                   Hit{lane_t[l], lane_u[l], lane_v[l], static_cast<uint32_t>(lane_prim[l])});
-      }
-    }
-  }
-}
-
-/// Any hit of the listed rays that are not yet blocked in a leaf, K rays at a
-/// time (a chunk of at most kLeafRaysAlone live rays: ray by ray); blocked
-/// rays get live tmax = -inf and blocked[i] = 1.
-template <bool kTmin, bool kShared, class C>
-inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const QueueDirection& qd,
-                     ListArena& arena, float* live_tmax, uint8_t* blocked, C& counters) {
+/// The listed rays of a leaf against its triangles, K rays at a time (a
+/// chunk of at most kLeafRaysAlone open rays: ray by ray, as a walk tests
+/// the leaf); `out` takes what they find.
+template <bool kAnyHit, bool kTmin, bool kShared, class C>
+inline void test_leaf(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays, const QueueDirection& qd,
+                      ListArena& arena, const PartAnswers<kAnyHit>& out, C& counters) {
   const TriangleBlock4* blocks = bvh.leaf_blocks(e.ref);
   const uint32_t n_blocks = bvh4_ref::leaf_block_count(e.ref);
   LeafDirectionTerms terms;
@@ -570,149 +373,96 @@ inline void leaf_any(const Bvh4& bvh, const ListEntry& e, const RayArrays& rays,
   for (uint32_t i = 0; i < e.count; i += kLanes) {
     const uint32_t valid = lanes_below(std::min<uint32_t>(kLanes, e.count - i));
     const ListedIds listed = listed_ids(ids + i, valid);
-    const vintK id = listed.id;
-    const vfloatK tmax = listed_lanes(live_tmax, listed);
-    const uint32_t live = valid & lane_mask(tmax != vfloatK(-INFINITY));
-    if (live == 0) continue;
-    if (static_cast<uint32_t>(std::popcount(live)) <= kLeafRaysAlone) {  // each ray alone
+    const vfloatK tmax = listed_lanes(out.tmax(), listed);
+    const uint32_t open = kAnyHit ? valid & lane_mask(tmax != vfloatK(-INFINITY)) : valid;
+    if (open == 0) continue;
+    if (static_cast<uint32_t>(std::popcount(open)) <= kLeafRaysAlone) {  // each ray alone
       const uint32_t* alone = arena.ids(e) + i;
-      for (uint32_t m = live; m; m &= m - 1) {
+      for (uint32_t m = open; m; m &= m - 1) {
         const uint32_t r_id = alone[std::countr_zero(m)];
+        Hit hit = out.nearest(r_id);
+        float t = hit.t;
+        vfloat4 vt(t);
         const MtBlockRay br(rays.ray(r_id));
-        if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, vfloat4(live_tmax[r_id]), counters)) {
-          live_tmax[r_id] = -INFINITY;
-          blocked[r_id] = 1;
-        }
+        if (leaf_hit<kAnyHit, MtBlocks>(blocks, n_blocks, br, {t, vt, hit}, counters) || !kAnyHit) out.take(r_id, hit);
       }
       continue;
     }
     const vfloatK tmin = kTmin ? vfloatK::load_unaligned(tmins + i) : vfloatK(0.0f);
-    uint32_t hit;
-    if constexpr (kShared) {
-      const TriangleLanes r = listed_triangle_lanes(rays, listed, dir, tmin);
-      hit = blocked_lanes<true>(blocks, n_blocks, terms.get(blocks, n_blocks, dir4), r, live, tmax, counters);
-    } else {
-      const TriangleLanes r = listed_triangle_lanes(rays, listed, tmin);
-      hit = blocked_lanes<false>(blocks, n_blocks, nullptr, r, live, tmax, counters);
+    const TriangleLanes r = listed_triangle_lanes(rays, listed, tmin, kShared ? &dir : nullptr);
+    LaneHitState s{tmax, vfloatK(0.0f), vfloatK(0.0f), vintK(-1)};
+    uint32_t changed = leaf_lanes<kAnyHit>(blocks, n_blocks, r, open, s,
+                                           kShared ? terms.get(blocks, n_blocks, dir4) : nullptr, counters);
+    if (changed == 0) continue;
+    alignas(64) int32_t lane_id[kLanes], lane_prim[kLanes];
+    alignas(64) float lane_t[kLanes], lane_u[kLanes], lane_v[kLanes];
+    listed.id.store_aligned(lane_id);
+    if constexpr (!kAnyHit) {
+      s.prim.store_aligned(lane_prim);
+      s.t.store_aligned(lane_t), s.u.store_aligned(lane_u), s.v.store_aligned(lane_v);
     }
-    if (hit == 0) continue;
-    alignas(64) int32_t lane_id[kLanes];
-    id.store_aligned(lane_id);
-    for (; hit; hit &= hit - 1) {
-      uint32_t r_id = static_cast<uint32_t>(lane_id[std::countr_zero(hit)]);
-      live_tmax[r_id] = -INFINITY;
-      blocked[r_id] = 1;
+    for (; changed; changed &= changed - 1) {
+      const uint32_t l = std::countr_zero(changed);
+      out.take(static_cast<uint32_t>(lane_id[l]),
+               Hit{lane_t[l], lane_u[l], lane_v[l], static_cast<uint32_t>(lane_prim[l])});
     }
   }
 }
 
-/// Walks left to single rays that run at once (in flight, interleaved), and
-/// how many are collected before they run.
+/// Walks left to single rays that run at once (taking turns), and how many
+/// are collected before they run.
 inline constexpr int kWalksInFlight = 8;
 inline constexpr size_t kWalkBatch = 64;
 
-/// Whether `n` collected walks go one after the other rather than
-/// interleaved: fewer than there are states in flight (a part's last few),
-/// whose turns would mostly pass over empty states, and, in a tree the caches
-/// hold (whose walks do not prefetch), fewer than twice that many.
+/// Whether `n` collected walks go one after the other rather than taking
+/// turns: fewer than there are walks in flight (a part's last few), whose
+/// turns would mostly pass over empty ones, and, in a tree the caches hold
+/// (whose walks do not prefetch), fewer than twice that many.
 inline bool walks_alone(const Bvh4& bvh, size_t n) {
   return n < size_t(walks_prefetch(bvh) ? kWalksInFlight : 2 * kWalksInFlight);
 }
 
-/// Runs the collected closest-hit walks (rays that go on alone below a node)
-/// kWalksInFlight at a time; a walk that finds a nearer hit than its ray has
-/// by then improves it.
-template <class C>
-inline void run_closest_walks(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, QueueScratch& s,
-                              C& counters) {
+/// Runs the collected walks (rays that go on alone below a node) of rays
+/// still open, kWalksInFlight at a time; `out` takes what they find (closest
+/// hit: a nearer hit than its ray has by then; any hit: the ray blocked,
+/// which ends its other walks).
+template <bool kAnyHit, class C>
+inline void run_walks(const Bvh4& bvh, const RayArrays& rays, const PartAnswers<kAnyHit>& out, QueueScratch& s,
+                      C& counters) {
   if (walks_alone(bvh, s.alone.size())) {
     for (const auto& [id, ref] : s.alone) {
-      Hit h = hits.load(id);
-      if (bvh4_intersect_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), h, counters)) hits.store(id, h);
+      if (!out.open(id)) continue;
+      Hit h = out.nearest(id);
+      if (walk_ray<kAnyHit>(bvh, ref, rays.ray(id), h, counters)) out.take(id, h);
     }
     s.alone.clear();
     return;
   }
   size_t next = 0;
-  bvh4_intersect_interleaved<TriangleForm::kMollerTrumbore, kWalksInFlight>(
+  walk_interleaved<kAnyHit, kWalksInFlight>(
       bvh,
-      [&](Ray& r, uint32_t& from, Hit& h, uint32_t& tag) {
-        if (next == s.alone.size()) return false;
-        const auto [id, ref] = s.alone[next++];
-        r = rays.ray(id), from = ref, h = hits.load(id), tag = id;
-        return true;
-      },
-      [&](uint32_t id, const Hit& h, bool found) {
-        if (found && h.t < hits.t[id]) hits.store(id, h);
-      },
-      counters);
-  s.alone.clear();
-}
-
-/// Runs the collected any-hit walks of rays not yet blocked; a walk whose ray
-/// another walk blocks ends there.
-template <class C>
-inline void run_any_walks(const Bvh4& bvh, const RayArrays& rays, uint8_t* blocked, float* live_tmax, QueueScratch& s,
-                          C& counters) {
-  auto block = [&](uint32_t id) {
-    live_tmax[id] = -INFINITY;
-    blocked[id] = 1;
-  };
-  if (walks_alone(bvh, s.alone.size())) {
-    for (const auto& [id, ref] : s.alone)
-      if (live_tmax[id] != -INFINITY &&
-          bvh4_occluded_below<TriangleForm::kMollerTrumbore>(bvh, ref, rays.ray(id), counters))
-        block(id);
-    s.alone.clear();
-    return;
-  }
-  size_t next = 0;
-  bvh4_occluded_interleaved<TriangleForm::kMollerTrumbore, kWalksInFlight>(
-      bvh,
-      [&](Ray& r, uint32_t& from, uint32_t& tag) {
+      [&](Ray& r, uint32_t& from, Hit& nearest, uint32_t& tag) {
         while (next < s.alone.size()) {
           const auto [id, ref] = s.alone[next++];
-          if (live_tmax[id] == -INFINITY) continue;
-          r = rays.ray(id), from = ref, tag = id;
+          if (!out.open(id)) continue;
+          r = rays.ray(id), from = ref, nearest = out.nearest(id), tag = id;
           return true;
         }
         return false;
       },
-      [&](uint32_t id, bool b) {
-        if (b) block(id);
+      [&](uint32_t id, const Hit& h, bool found) {
+        if (found) out.take(id, h);
       },
-      [&](uint32_t id) { return live_tmax[id] == -INFINITY; }, counters);
+      [&](uint32_t id) { return !out.open(id); }, counters);
   s.alone.clear();
 }
 
-/// Closest hits of rays [0, rays.size) (at most kMaxStreamRays) into `hits`.
-template <bool kTmin, class C>
-inline void intersect_part(const Bvh4& bvh, const RayArrays& rays, const HitArrays& hits, ListArena& arena,
-                           QueueScratch& s, C& counters) {
-  ListEntry stack[kBvh4StackSize];
-  ListEntry* sp = stack;
-  *sp++ = root_list<kTmin>(bvh, rays, arena);
-  while (sp != stack) {
-    const ListEntry e = *--sp;
-    if (e.count < kStreamMinRays) {
-      const uint32_t* ids = arena.ids(e);
-      for (uint32_t i = 0; i < e.count; ++i) s.alone.push_back({ids[i], e.ref});
-      if (s.alone.size() >= kWalkBatch) run_closest_walks(bvh, rays, hits, s, counters);
-    } else if (bvh4_ref::is_leaf(e.ref)) {
-      leaf_closest<kTmin>(bvh, e, rays, hits, arena, counters);
-    } else {
-      split_node<true, kTmin, false>(bvh, e, arena, hits.t, QueueDirection{}, sp, counters);
-    }
-  }
-  run_closest_walks(bvh, rays, hits, s, counters);
-}
-
-/// Occlusion of rays [0, rays.size) (at most kMaxStreamRays): blocked rays get
-/// live_tmax = -inf and blocked = 1. kShared: rays of the one direction of
-/// `qd` (qd.shared).
-template <bool kTmin, bool kShared, class C>
-inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd, uint8_t* blocked,
-                          float* live_tmax, ListArena& arena, QueueScratch& s, C& counters) {
+/// The rays [0, rays.size) of a part (at most kMaxStreamRays) through the
+/// tree; `out` takes what they find. kTmin: some ray has tmin != 0. kShared:
+/// every ray has the one direction of `qd` (any hit).
+template <bool kAnyHit, bool kTmin, bool kShared, class C>
+inline void trace_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd,
+                       const PartAnswers<kAnyHit>& out, ListArena& arena, QueueScratch& s, C& counters) {
   ListEntry stack[kBvh4StackSize];
   ListEntry* sp = stack;
   *sp++ = root_list<kTmin, kShared>(bvh, rays, arena);
@@ -721,15 +471,25 @@ inline void occluded_part(const Bvh4& bvh, const RayArrays& rays, const QueueDir
     if (e.count < kStreamMinRays) {
       const uint32_t* ids = arena.ids(e);
       for (uint32_t i = 0; i < e.count; ++i)
-        if (live_tmax[ids[i]] != -INFINITY) s.alone.push_back({ids[i], e.ref});
-      if (s.alone.size() >= kWalkBatch) run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
+        if (out.open(ids[i])) s.alone.push_back({ids[i], e.ref});
+      if (s.alone.size() >= kWalkBatch) run_walks(bvh, rays, out, s, counters);
     } else if (bvh4_ref::is_leaf(e.ref)) {
-      leaf_any<kTmin, kShared>(bvh, e, rays, qd, arena, live_tmax, blocked, counters);
+      test_leaf<kAnyHit, kTmin, kShared>(bvh, e, rays, qd, arena, out, counters);
     } else {
-      split_node<false, kTmin, kShared>(bvh, e, arena, live_tmax, qd, sp, counters);
+      split_node<!kAnyHit, kTmin, kShared>(bvh, e, arena, out.tmax(), qd, sp, counters);
     }
   }
-  run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
+  run_walks(bvh, rays, out, s, counters);
+}
+
+/// Rays [begin, end) of a queue, with indices from 0.
+inline RayArrays part_of(const RayArrays& rays, size_t begin, size_t end) {
+  RayArrays p = rays;
+  for (int a = 0; a < 3; ++a) p.org[a] += begin, p.dir[a] += begin;
+  if (p.tmin) p.tmin += begin;
+  p.tmax += begin;
+  p.size = end - begin;
+  return p;
 }
 
 /// Rays a part holds at most to go as one masked set (occluded_masked_part).
@@ -743,8 +503,9 @@ inline constexpr uint32_t kMaskedRays = 64;
 /// kStreamMinRays goes on as walks, a leaf as leaf_any takes its chunks.
 /// Small queues (a scene's few later shadow rays) pay for no compaction.
 template <bool kTmin, class C>
-inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd, uint8_t* blocked,
-                                 float* live_tmax, QueueScratch& s, C& counters) {
+inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const QueueDirection& qd,
+                                 const PartAnswers<true>& out, QueueScratch& s, C& counters) {
+  float* live_tmax = out.live_tmax;
   assert(rays.size <= kMaskedRays);
   static_assert(kMaskedRays % kLanes == 0 && kMaskedRays <= 64);
   constexpr uint32_t kRoom = kMaskedRays + kMaxLanes;
@@ -753,10 +514,9 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
   if (qd.shared) qd.lanes(dir);
   uint64_t set = 0;  // the rays traced: traceable, not blocked before
   for (size_t i = 0; i < rays.size; i += kLanes) {
-    const uint32_t valid = lanes_below(std::min(kLanes, rays.size - i));
-    const SlabLanes r = slab_lanes(rays, i);
-    const vboolK open = load_part_lanes(live_tmax, i, rays.size) != vfloatK(-INFINITY);
-    set |= uint64_t(lane_mask(r.traceable & open) & valid) << i;
+    const QueueLanes r(rays, i);
+    const vboolK open = load_queue_lanes(live_tmax, i, rays.size) != vfloatK(-INFINITY);
+    set |= uint64_t(lane_mask(open) & r.traceable) << i;
     for (int a = 0; a < 3; ++a) {
       if (!qd.shared) r.rdir[a].store_aligned(rdir[a] + i);  // else the node tests broadcast qd.rdir
       r.org_rdir[a].store_aligned(org_rdir[a] + i);
@@ -784,7 +544,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
     if (static_cast<uint32_t>(std::popcount(mask)) < kStreamMinRays) {  // 4 and 2 measured no faster
       for (uint64_t b = mask; b; b &= b - 1) s.alone.push_back({static_cast<uint32_t>(std::countr_zero(b)), e.ref});
       if (s.alone.size() >= kWalkBatch) {
-        run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
+        run_walks(bvh, rays, out, s, counters);
         alive = live();
       }
       continue;
@@ -799,25 +559,30 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
         if (static_cast<uint32_t>(std::popcount(chunk)) <= kLeafRaysAlone) {  // each ray alone
           for (uint32_t m = chunk; m; m &= m - 1) {
             const uint32_t r_id = i + std::countr_zero(m);
-            const MtBlockRay br(rays.ray(r_id));
-            if (leaf_occludes<TriangleForm::kMollerTrumbore>(blocks, n_blocks, br, vfloat4(live_tmax[r_id]),
-                                                             counters)) {
-              live_tmax[r_id] = -INFINITY;
-              blocked[r_id] = 1;
+            Hit hit = out.nearest(r_id);
+            vfloat4 vt(hit.t);
+            if (leaf_hit<true, MtBlocks>(blocks, n_blocks, MtBlockRay(rays.ray(r_id)), {hit.t, vt, hit}, counters)) {
+              out.take(r_id, hit);
               alive &= ~(uint64_t(1) << r_id);
             }
           }
           continue;
         }
         const vfloatK tmin = kTmin ? vfloatK::load_aligned(tmin_of + i) : vfloatK(0.0f);
-        const TriangleLanes r =
-            qd.shared ? part_triangle_lanes(rays, i, dir, tmin) : part_triangle_lanes(rays, i, tmin);
-        const vfloatK tmax = vfloatK::load_unaligned(live_tmax + i);
-        uint32_t hit = blocked_lanes(blocks, n_blocks, r, chunk, tmax, qd, terms, counters);
+        TriangleLanes r;
+        for (int a = 0; a < 3; ++a) {
+          r.org[a] = load_queue_lanes(rays.org[a], i, rays.size);
+          r.dir[a] = qd.shared ? dir[a] : load_queue_lanes(rays.dir[a], i, rays.size);
+        }
+        r.tmin = tmin;
+        LaneHitState lanes{vfloatK::load_unaligned(live_tmax + i), vfloatK(0.0f), vfloatK(0.0f), vintK(-1)};
+        vfloat4 dir4[3];
+        qd.lanes(dir4);
+        uint32_t hit = leaf_lanes<true>(blocks, n_blocks, r, chunk, lanes,
+                                        qd.shared ? terms.get(blocks, n_blocks, dir4) : nullptr, counters);
         for (; hit; hit &= hit - 1) {
           const uint32_t r_id = i + std::countr_zero(hit);
-          live_tmax[r_id] = -INFINITY;
-          blocked[r_id] = 1;
+          out.take(r_id, Hit{});
           alive &= ~(uint64_t(1) << r_id);
         }
       }
@@ -839,13 +604,9 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
         r.tmax = vfloatK::load_unaligned(live_tmax + i);
         for (int k = 0; k < 4; ++k) {
           if (node.child[k] == bvh4_ref::kEmptyRef) continue;
-          uint32_t m;
-          if constexpr (kShared) {
-            m = lane_mask(child_test(node, k, r, qd));
-          } else {
-            vfloatK tnear;
-            m = lane_mask(child_test(node, k, r, tnear));
-          }
+          vfloatK tnear;
+          const uint32_t m = lane_mask(kShared ? lanes_enter_child(node, k, r, qd.planes, tnear)
+                                               : lanes_enter_child(node, k, r, tnear));
           child_mask[k] |= uint64_t(m & chunk) << i;
         }
       }
@@ -858,17 +619,7 @@ inline void occluded_masked_part(const Bvh4& bvh, const RayArrays& rays, const Q
         *sp++ = {node.child[k], child_mask[k]};
       }
   }
-  run_any_walks(bvh, rays, blocked, live_tmax, s, counters);
-}
-
-/// Rays [begin, end) of a queue, with indices from 0.
-inline RayArrays part_of(const RayArrays& rays, size_t begin, size_t end) {
-  RayArrays p = rays;
-  for (int a = 0; a < 3; ++a) p.org[a] += begin, p.dir[a] += begin;
-  if (p.tmin) p.tmin += begin;
-  p.tmax += begin;
-  p.size = end - begin;
-  return p;
+  run_walks(bvh, rays, out, s, counters);
 }
 
 }  // namespace stream_detail
@@ -884,9 +635,9 @@ inline void bvh4_intersect_stream(const Bvh4& bvh, const RayArrays& rays, const 
   ListArena arena(s);
   for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
     const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
-    const HitArrays out{hits.t + b, hits.u + b, hits.v + b, hits.prim + b};
-    if (has_tmin(part)) intersect_part<true>(bvh, part, out, arena, s, counters);
-    else intersect_part<false>(bvh, part, out, arena, s, counters);
+    const PartAnswers<false> out{HitArrays{hits.t + b, hits.u + b, hits.v + b, hits.prim + b}};
+    if (has_tmin(part)) trace_part<false, true, false>(bvh, part, QueueDirection{}, out, arena, s, counters);
+    else trace_part<false, false, false>(bvh, part, QueueDirection{}, out, arena, s, counters);
   }
 }
 
@@ -906,16 +657,17 @@ inline void bvh4_occluded_stream(const Bvh4& bvh, const RayArrays& rays, uint8_t
   const QueueDirection qd = direction_of(rays);
   for (size_t b = 0; b < rays.size; b += kMaxStreamRays) {
     const RayArrays part = part_of(rays, b, std::min(rays.size, b + kMaxStreamRays));
+    const PartAnswers<true> out{live_tmax + b, blocked + b};
     if (part.size <= kMaskedRays) {
-      if (has_tmin(part)) occluded_masked_part<true>(bvh, part, qd, blocked + b, live_tmax + b, s, counters);
-      else occluded_masked_part<false>(bvh, part, qd, blocked + b, live_tmax + b, s, counters);
+      if (has_tmin(part)) occluded_masked_part<true>(bvh, part, qd, out, s, counters);
+      else occluded_masked_part<false>(bvh, part, qd, out, s, counters);
     } else if (has_tmin(part)) {
-      if (qd.shared) occluded_part<true, true>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
-      else occluded_part<true, false>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+      if (qd.shared) trace_part<true, true, true>(bvh, part, qd, out, arena, s, counters);
+      else trace_part<true, true, false>(bvh, part, qd, out, arena, s, counters);
     } else if (qd.shared) {
-      occluded_part<false, true>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+      trace_part<true, false, true>(bvh, part, qd, out, arena, s, counters);
     } else {
-      occluded_part<false, false>(bvh, part, qd, blocked + b, live_tmax + b, arena, s, counters);
+      trace_part<true, false, false>(bvh, part, qd, out, arena, s, counters);
     }
   }
 }

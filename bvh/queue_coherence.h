@@ -1,21 +1,26 @@
-// When a queue's rays are coherent enough for sets: runs of consecutive
-// rays from one origin or from origins close together, in nearly one
-// direction. A pinhole camera's rays are such runs (a pixel's samples and its
-// neighbours'), and so are the shadow rays of a directional light from the
-// first hits of neighbouring paths; bounce rays and the shadow rays of later
-// vertices are not. The queue tracer (scene_bvh4_queries.h) traces coherent
-// queues as sets of 64 rays under a frustum (bvh4_coherent_set.h), whose
-// nodes cost two 4-wide tests for the whole set, and the others as streams.
+// How a queue is traced: the rule that picks ray by ray, coherent sets or a
+// stream (choose_queue_method), and what it measures of the queue. A queue
+// is coherent when it comes in runs of consecutive rays from one origin or
+// from origins close together, in nearly one direction: a pinhole camera's
+// rays (a pixel's samples and its neighbours') and the shadow rays of a
+// directional light from the first hits of neighbouring paths; bounce rays
+// and the shadow rays of later vertices are not. Sets of 64 such rays cost
+// two 4-wide node tests for the whole set at most nodes, where a stream
+// tests every ray.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "kernels/simd/isa_namespace.h"
 #include "bvh4.h"
+#include "bvh4_leaf_test.h"
+#if PT_PER_LEVEL
+#include "bvh4_stream.h"
+#endif
 #include "kernels/math/ray_arrays.h"
-#include "kernels/simd/cache_size.h"
 
 namespace pt {
 inline namespace PT_ISA_NS {
@@ -72,66 +77,28 @@ inline bool in_coherent_runs(const RayArrays& rays, float near, size_t run) {
   return true;
 }
 
-/// How far a sky's directions spread: the ranges of a run's unit directions
-/// on the three axes sum to more than this (a sky's samples from the CS184
-/// scenes' surfaces 3.7-4.8 over 32 consecutive rays, an area light's 0.9-1.5,
-/// a directional light's 0).
-inline constexpr float kSphereSpread = 3.0f;
+#if PT_PER_LEVEL
+/// How a queue is traced (scene_bvh4_queries.h).
+enum class QueueMethod {
+  kRays,    ///< ray by ray, each its own walk (bvh4_ray_walk.h)
+  kSets,    ///< coherent sets of 64 consecutive rays (bvh4_coherent_set.h)
+  kStream,  ///< a ray stream (bvh4_stream.h)
+};
 
-/// Consecutive rays per run that spans_the_sphere measures.
-inline constexpr size_t kSpreadRun = 32;
-
-/// The sum of the ranges on the three axes of the unit directions of rays
-/// [first, first + n); rays whose direction is not finite or is 0 count for
-/// nothing.
-inline float direction_spread(const RayArrays& rays, size_t first, size_t n) {
-  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (size_t i = first; i < first + n; ++i) {
-    const float3 d{rays.dir[0][i], rays.dir[1][i], rays.dir[2][i]};
-    const float len = length(d);
-    if (!(len > 0.0f && len < INFINITY)) continue;
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a] / len), hi[a] = std::max(hi[a], d[a] / len);
-  }
-  float sum = 0.0f;
-  for (int a = 0; a < 3; ++a) sum += hi[a] > lo[a] ? hi[a] - lo[a] : 0.0f;
-  return sum;
+/// The rule that picks a queue's method (docs/bvh.md, "How a queue is
+/// traced"): ray by ray when the leaves are not Moller-Trumbore's (the sets'
+/// and streams' triangle tests are) or when the queue has fewer rays than a
+/// stream tests across lanes at its root (it would hand them all to walks
+/// there); as coherent sets when it comes in coherent runs of K rays
+/// (in_coherent_runs, within a 32nd of the scene's extent); else as a stream.
+template <class Blocks>
+inline QueueMethod choose_queue_method(const Bvh4& bvh, const RayArrays& rays) {
+  if (!std::is_same_v<Blocks, MtBlocks> || rays.size < stream_detail::kStreamMinRays) return QueueMethod::kRays;
+  if (rays.size >= 4 * kLanes && in_coherent_runs(rays, kCoherentSpread * scene_extent(bvh), kLanes))
+    return QueueMethod::kSets;
+  return QueueMethod::kStream;
 }
-
-/// Whether a queue's directions span the sphere, as a sky's samples do:
-/// four runs of kSpreadRun rays spread over the queue (one run of all its
-/// rays when it is shorter than four) each spread more than kSphereSpread.
-inline bool spans_the_sphere(const RayArrays& rays) {
-  if (rays.size < 4 * kSpreadRun) return rays.size >= 2 && direction_spread(rays, 0, rays.size) > kSphereSpread;
-  for (size_t k = 0; k < 4; ++k)
-    if (!(direction_spread(rays, k * (rays.size / 4) / kSpreadRun * kSpreadRun, kSpreadRun) > kSphereSpread))
-      return false;
-  return true;
-}
-
-/// Queues of at most this many rays go as octant sets when they qualify
-/// (goes_as_octant_sets): on longer ones the stream shares more work across
-/// rays (docs/bvh_and_benchmarks.md: bunny's sky shadow rays as sets, on a
-/// Zen 3 at AVX2, in queues of 1024 rays and up 0.79-1.03 of the stream's
-/// rate; on a Zen 4 at AVX2, in queues of 256-512 rays 1.04-1.22x).
-inline constexpr size_t kOctantSetMaxRays = 512;
-
-/// The widest SIMD level (lanes) at which octant sets pay: their node tests
-/// are one ray's four children, while at 16 lanes the stream tests 16 rays'
-/// boxes at once (docs/bvh_and_benchmarks.md: on a Zen 4, bunny's short sky
-/// shadow queues at AVX2 1.04-1.23x as sets, at AVX-512 0.87-1.13x, 1 and
-/// 2 threads).
-inline constexpr size_t kOctantSetMaxLanes = 8;
-
-/// Whether an any-hit queue goes as octant sets (bvh4_octant_sets.h) at a
-/// level of `lanes` lanes: a short queue whose directions span the sphere, in
-/// a tree larger than one core's L2 cache of `l2_bytes` (l2_cache_bytes() in
-/// the renderer; a test's own figure elsewhere), where rays wait on nodes and
-/// leaves that the set's rays then load once (in a tree the caches hold, the
-/// stream's tests across rays win: banana's sky shadow rays 0.72x as sets).
-inline bool goes_as_octant_sets(const Bvh4& bvh, const RayArrays& rays, size_t lanes, size_t l2_bytes) {
-  return lanes <= kOctantSetMaxLanes && rays.size <= kOctantSetMaxRays && bvh.bytes() > l2_bytes &&
-         spans_the_sphere(rays);
-}
+#endif
 
 }  // namespace PT_ISA_NS
 }  // namespace pt

@@ -14,11 +14,11 @@
 #include "bvh4.h"
 #include "bvh4_build.h"
 #include "bvh4_query_table.h"
-#include "kernels/math/ray_arrays.h"
-#include "queue_scratch.h"
-#include "kernels/simd/isa.h"
 #include "kernels/math/ray.h"
+#include "kernels/math/ray_arrays.h"
 #include "kernels/scene/scene.h"
+#include "kernels/simd/isa.h"
+#include "queue_scratch.h"
 #include "traversal_counters.h"
 
 namespace pt {
@@ -41,60 +41,25 @@ class SceneBvh4 {
   /// barycentrics w.r.t. the scene's vertex order (u weights v1, v weights v2; 0 for
   /// spheres). On a miss hit = {ray.tmax, 0, 0, kInvalidId}. Rays with a NaN or
   /// infinite origin or direction, or a NaN or empty t range, hit nothing.
-  bool intersect(const Ray& ray, Hit& hit) const { return queries_->intersect(*this, ray, hit, nullptr); }
-  /// Any hit with ray.tmin <= t < ray.tmax.
-  bool occluded(const Ray& ray) const { return queries_->occluded(*this, ray, nullptr); }
-  /// Same queries, also counting nodes visited and primitives tested.
-  bool intersect(const Ray& ray, Hit& hit, TraversalCounters& c) const {
-    return queries_->intersect(*this, ray, hit, &c);
+  /// `counters`, when given, add the nodes visited and primitives tested.
+  bool intersect(const Ray& ray, Hit& hit, TraversalCounters* counters = nullptr) const {
+    return queries_->intersect(*this, ray, hit, counters);
   }
-  bool occluded(const Ray& ray, TraversalCounters& c) const { return queries_->occluded(*this, ray, &c); }
-
-  /// Closest hits of rays[i] into hits[i], each ray traced on its own (one
-  /// call for the whole range: no per-ray dispatch).
-  void intersect_each(std::span<const Ray> rays, std::span<Hit> hits) const {
-    queries_->intersect_each(*this, rays, hits);
+  /// Whether something lies on the ray with ray.tmin <= t < ray.tmax.
+  bool occluded(const Ray& ray, TraversalCounters* counters = nullptr) const {
+    return queries_->occluded(*this, ray, counters);
   }
-  /// blocked[i] = occluded(rays[i]) for every i, likewise.
-  void occluded_each(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
-    queries_->occluded_each(*this, rays, blocked);
-  }
-
-  /// Closest hits of a whole queue of rays (the queue tracer, bvh4_stream.h):
-  /// hits[i] as intersect(rays.ray(i)) gives it, bit for bit but for which of
-  /// two triangles at exactly the same t is reported. `scratch` is the calling
-  /// thread's, reused from queue to queue.
-  void intersect(const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch) const {
-    queries_->intersect_queue(*this, rays, hits, scratch, nullptr);
-  }
-  void intersect(const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch, TraversalCounters& c) const {
-    queries_->intersect_queue(*this, rays, hits, scratch, &c);
+  /// Closest hits of a whole queue of rays (the queue tracer, docs/bvh.md):
+  /// hits[i] as intersect(rays.ray(i)) gives it, bit for bit. `scratch` is
+  /// the calling thread's, reused from queue to queue.
+  void intersect_queue(const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
+                       TraversalCounters* counters = nullptr) const {
+    queries_->intersect_queue(*this, rays, hits, scratch, counters);
   }
   /// blocked[i] = occluded(rays.ray(i)) (0 or 1) for every ray of a queue.
-  void occluded(const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch) const {
-    queries_->occluded_queue(*this, rays, blocked, scratch, nullptr);
-  }
-  void occluded(const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, TraversalCounters& c) const {
-    queries_->occluded_queue(*this, rays, blocked, scratch, &c);
-  }
-  /// Rays per packet: the lane count K of the level the queries run at.
-  uint32_t packet_lanes() const { return queries_->packet_lanes; }
-  /// Closest hits of rays[i] into hits[i] for every i. Runs of packet_lanes()
-  /// consecutive rays are traced as packets: fastest when they are coherent
-  /// (camera rays of a pixel block). Same answers as the single-ray query.
-  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
-    queries_->intersect_packets(*this, rays, hits);
-  }
-  /// One packet: traces rays[i] into hits[i] for the lanes i < packet_lanes()
-  /// set in `lanes`; the other entries of both arrays are neither read nor written.
-  void intersect_packet(const Ray* rays, Hit* hits, uint32_t lanes) const {
-    queries_->intersect_packet(*this, rays, hits, lanes);
-  }
-  /// One packet of occlusion queries: the lanes i < packet_lanes() set in
-  /// `lanes` whose ray rays[i] is blocked (the same answers as occluded(rays[i])).
-  /// Fastest when the rays are coherent (shadow rays of one pixel's samples).
-  uint32_t occluded_packet(const Ray* rays, uint32_t lanes) const {
-    return queries_->occluded_packet(*this, rays, lanes);
+  void occluded_queue(const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch,
+                      TraversalCounters* counters = nullptr) const {
+    queries_->occluded_queue(*this, rays, blocked, scratch, counters);
   }
 
   /// The instruction-set level the queries run at.

@@ -1,7 +1,8 @@
 // Ray against a block of four triangles (TriangleBlock4) at once: SIMD
-// Moller-Trumbore on (v0, e1, e2) rows and the watertight test of Woop, Benthin
-// and Wald (2013) on (v0, v1, v2) rows. Both compare numerators against the
-// determinant and divide only for blocks that have a hit. Results follow the
+// Moller-Trumbore on (v0, e1, e2) rows (the benchmark's watertight test on
+// (v0, v1, v2) rows shares its tail, bench/watertight_blocks.h). It compares
+// numerators against the determinant and divides only for blocks that have a
+// hit. Results follow the
 // scalar tests of kernels/scene/triangle_intersect.h: tmin <= t < tmax, u weights
 // v1, v weights v2, degenerate triangles and NaN never hit.
 #pragma once
@@ -245,51 +246,6 @@ PT_ALWAYS_INLINE uint32_t intersect_block_pair_mt(const TriangleBlock4* b, const
   return movemask(h.hit);
 }
 #endif
-
-/// Per-ray constants of the watertight test: the dominant direction axis
-/// becomes z (kz), the shear maps the direction onto +z.
-struct WatertightBlockRay {
-  uint32_t kx, ky, kz;
-  vfloat4 org[3];  ///< origin in permuted order (x = org[kx], ...)
-  vfloat4 sx, sy, sz, tmin;
-  WatertightBlockRay() = default;
-  explicit WatertightBlockRay(const Ray& r);
-};
-
-/// Recomputes the edge functions of the lanes where one is exactly zero in
-/// double precision (products of floats are exact there), as Woop et al. do.
-void watertight_edges_in_double(const float ax[4], const float ay[4], const float bx[4], const float by[4],
-                                const float cx[4], const float cy[4], uint32_t lanes, vfloat4& u, vfloat4& v,
-                                vfloat4& w);
-
-/// Watertight test on a block in kWatertight form.
-PT_ALWAYS_INLINE uint32_t intersect_block_watertight(const TriangleBlock4& b, const WatertightBlockRay& r,
-                                                     const vfloat4& tmax, BlockHits& h) {
-  auto row = [](const float(*rows)[4], uint32_t axis) { return vfloat4::load_aligned(rows[axis]); };
-  vfloat4 az = row(b.v0, r.kz) - r.org[2], bz = row(b.r1, r.kz) - r.org[2], cz = row(b.r2, r.kz) - r.org[2];
-  vfloat4 ax = (row(b.v0, r.kx) - r.org[0]) - r.sx * az, ay = (row(b.v0, r.ky) - r.org[1]) - r.sy * az;
-  vfloat4 bx = (row(b.r1, r.kx) - r.org[0]) - r.sx * bz, by = (row(b.r1, r.ky) - r.org[1]) - r.sy * bz;
-  vfloat4 cx = (row(b.r2, r.kx) - r.org[0]) - r.sx * cz, cy = (row(b.r2, r.ky) - r.org[1]) - r.sy * cz;
-  vfloat4 u = keep_rounded(cx * by) - keep_rounded(cy * bx);
-  vfloat4 v = keep_rounded(ax * cy) - keep_rounded(ay * cx);
-  vfloat4 w = keep_rounded(bx * ay) - keep_rounded(by * ax);
-  vfloat4 zero(0.0f);
-  if (uint32_t on_edge = movemask((u == zero) | (v == zero) | (w == zero))) {
-    alignas(16) float fax[4], fay[4], fbx[4], fby[4], fcx[4], fcy[4];
-    ax.store_aligned(fax);
-    ay.store_aligned(fay);
-    bx.store_aligned(fbx);
-    by.store_aligned(fby);
-    cx.store_aligned(fcx);
-    cy.store_aligned(fcy);
-    watertight_edges_in_double(fax, fay, fbx, fby, fcx, fcy, on_edge, u, v, w);
-  }
-  vbool4 negative = (u < zero) | (v < zero) | (w < zero);
-  vbool4 positive = (u > zero) | (v > zero) | (w > zero);
-  vfloat4 det = u + v + w;
-  vfloat4 t_num = u * (r.sz * az) + v * (r.sz * bz) + w * (r.sz * cz);
-  return finish_block_hits(det, t_num, v, w, !(negative & positive), r.tmin, tmax, h);
-}
 
 }  // namespace PT_ISA_NS
 }  // namespace pt

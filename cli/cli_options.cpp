@@ -28,14 +28,13 @@ constexpr std::array<const char*, 3> kAccels = {"bvh4", "bvh2", "none"};        
 constexpr std::array<const char*, 4> kBounceModes = {"accumulate", "only-m", "direct", "indirect"};
 constexpr std::array<const char*, 4> kDirectModes = {"light", "hemisphere", "cosine", "mis"};  // DirectLighting
 constexpr std::array<const char*, 2> kSamplers = {"independent", "sobol"};                     // PixelSampler
-constexpr std::array<const char*, 3> kTraceModes = {"queue", "packets", "single"};             // TraceChoice
+constexpr std::array<const char*, 2> kTraceModes = {"queue", "single"};                        // wf::TraceMode
 constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};                 // RouletteMode
 
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
   std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard, trace;
-  bool no_packets = false;
   std::vector<std::string> resolution, adaptive, region;
   bool hemisphere = false, normals = false, cs184 = false, list_isa = false, serve = false;
   std::optional<std::string> serve_port;  ///< the PORT after --serve, if one was given
@@ -128,11 +127,6 @@ void Converter::convert(const RawValues& raw) {
   choice("--sampler", "sampler", raw.sampler, kSamplers, s.sampler);
   choice("--rr-mode", "Russian roulette mode", raw.rr_mode, kRouletteModes, s.roulette);
   choice("--trace", "trace mode", raw.trace, kTraceModes, o_.trace);
-  if (raw.no_packets) {
-    if (error.empty() && app_.count("--trace") > 0 && o_.trace != TraceChoice::kSingle)
-      error = "--no-packets and --trace " + raw.trace + " contradict each other";
-    o_.trace = TraceChoice::kSingle;
-  }
   if (error.empty()) {  // the level in use: --isa, else the environment's PT_ISA, else the widest
     try {
       o_.isa = app_.count("--isa") > 0 ? resolve_isa(raw.isa) : active_isa();
@@ -162,20 +156,20 @@ std::string validate_live(const Options& o) {
   const RenderSettings& s = o.settings;
   if (o.engine != Engine::kWavefront || o.accel != AccelChoice::kBvh4)
     return "--serve: the live view renders with the wavefront engine and the BVH4 (no --engine or --bvh)";
-  const char* alone = !o.merge.empty()                 ? "--merge"
-                      : !o.export_scene.empty()        ? "--export-scene"
-                      : o.shard_count > 0              ? "--shard"
-                      : !o.checkpoint_file.empty()     ? "--checkpoint"
-                      : !o.convergence_csv.empty()     ? "--convergence-csv"
-                      : !o.variance_file.empty()       ? "--variance"
-                      : s.region                       ? "-p"
-                      : o.stats                        ? "--stats"
-                      : o.memory                       ? "--memory"
-                      : o.trace != TraceChoice::kQueue ? "--trace"
-                      : !o.dump_queues.empty()         ? "--dump-queues"
-                      : o.queue_order_shading          ? "--shade-in-queue-order"
-                      : o.count_tests                  ? "--count-tests"
-                                                       : nullptr;
+  const char* alone = !o.merge.empty()                   ? "--merge"
+                      : !o.export_scene.empty()          ? "--export-scene"
+                      : o.shard_count > 0                ? "--shard"
+                      : !o.checkpoint_file.empty()       ? "--checkpoint"
+                      : !o.convergence_csv.empty()       ? "--convergence-csv"
+                      : !o.variance_file.empty()         ? "--variance"
+                      : s.region                         ? "-p"
+                      : o.stats                          ? "--stats"
+                      : o.memory                         ? "--memory"
+                      : o.trace != wf::TraceMode::kQueue ? "--trace"
+                      : !o.dump_queues.empty()           ? "--dump-queues"
+                      : o.queue_order_shading            ? "--shade-in-queue-order"
+                      : o.count_tests                    ? "--count-tests"
+                                                         : nullptr;
   if (alone) return std::string("--serve: ") + alone + " is for renders to a file, not the live view";
   if (s.width < 16 || s.height < 16 || s.width > 4096 || s.height > 4096 ||
       int64_t(s.width) * s.height > (int64_t(1) << 22))
@@ -368,10 +362,9 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("--memory", o.memory, "Print the bytes of every structure the render allocates and the peak RSS");
   app.add_option("--trace", raw.trace,
-                 "Wavefront: queue (every queue whole through the queue tracer), packets (camera rays and their "
-                 "shadow rays as SIMD packets, the others one by one) or single (every ray on its own); queue")
+                 "Wavefront: queue (every queue whole through the queue tracer, which picks each queue's method) "
+                 "or single (every ray on its own, for comparison); queue")
       ->type_name("NAME");
-  app.add_flag("--no-packets", raw.no_packets, "Wavefront: trace every ray on its own (= --trace single)");
   app.add_flag(
       "--shade-in-queue-order", o.queue_order_shading,
       "Wavefront: shade bounce hits in the order their rays were queued, not sorted by the cell of their "

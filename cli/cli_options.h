@@ -9,13 +9,12 @@
 
 #include "kernels/simd/isa.h"
 #include "kernels/render/render_settings.h"
+#include "wavefront/trace_mode.h"
 
 namespace pt::cli {
 
 enum class Engine { kReference, kWavefront, kMegakernel };
 enum class AccelChoice { kBvh4, kBvh2, kNone };
-/// --trace: how the wavefront traces its queues (the order of wf::TraceMode).
-enum class TraceChoice { kQueue, kPackets, kSingle };
 
 struct Options {
   std::string scene_path;                  ///< empty: the built-in default scene
@@ -46,12 +45,12 @@ struct Options {
   bool cs184_png = false;  ///< --cs184-compat: PNG values truncated as the course renderer does
   bool quiet = false;
   bool stats = false;
-  bool memory = false;                      ///< --memory: print bytes per structure and peak RSS
-  TraceChoice trace = TraceChoice::kQueue;  ///< --trace (--no-packets: single)
-  std::string dump_queues;                  ///< --dump-queues DIR: write every queue traced as ray files
-  bool queue_order_shading = false;         ///< --shade-in-queue-order: bounce hits not sorted by hit point
-  bool count_tests = false;                 ///< --count-tests: count primitive tests (slower)
-  Isa isa = Isa::kSse42;                    ///< --isa, else PT_ISA, else the widest level the CPU runs
+  bool memory = false;                          ///< --memory: print bytes per structure and peak RSS
+  wf::TraceMode trace = wf::TraceMode::kQueue;  ///< --trace
+  std::string dump_queues;                      ///< --dump-queues DIR: write every queue traced as ray files
+  bool queue_order_shading = false;             ///< --shade-in-queue-order: bounce hits not sorted by hit point
+  bool count_tests = false;                     ///< --count-tests: count primitive tests (slower)
+  Isa isa = Isa::kSse42;                        ///< --isa, else PT_ISA, else the widest level the CPU runs
 };
 
 /// Outcome of parsing: options to run with, or an exit code (0 after --help

@@ -25,10 +25,6 @@ EngineRunner::EngineRunner(const Options& o, const Scene& scene, const Camera& c
 
 namespace {
 
-static_assert(int(TraceChoice::kQueue) == int(wf::TraceMode::kQueue) &&
-              int(TraceChoice::kPackets) == int(wf::TraceMode::kPackets) &&
-              int(TraceChoice::kSingle) == int(wf::TraceMode::kSingle));
-
 /// Runs a pass-based engine.
 RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camera& camera, const RenderSettings& rs,
                                const RenderControl& control, const wf::Tracing& tracing,
@@ -36,7 +32,7 @@ RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camer
   if (o.engine == Engine::kMegakernel) return wf::render_megakernel(scene, camera, rs, tracing, control);
   wf::StageStats stages;
   wf::WavefrontOptions options;
-  options.trace = static_cast<wf::TraceMode>(o.trace);
+  options.trace = o.trace;
   options.sort_by_hit_point = !o.queue_order_shading;
   QueueDump dump;
   if (!o.dump_queues.empty()) options.capture = dump.hook();

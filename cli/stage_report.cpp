@@ -30,7 +30,7 @@ void print_stage_stats(const wf::StageStats& s, const RenderStats& totals, Isa i
   rate_line("bounce rays", s.bounce_rays, seconds_of(s, Stage::kIntersectBounce));
   rate_line("shadow rays from first hits", s.first_hit_shadow_rays, seconds_of(s, Stage::kShadowFirstHit));
   rate_line("later shadow rays", s.shadow_rays - s.first_hit_shadow_rays, seconds_of(s, Stage::kShadowLater));
-  std::printf("tracer time per kind of queue (the queue tracer, or --trace packets / single):\n");
+  std::printf("tracer time per kind of queue (the queue tracer, or --trace single):\n");
   std::printf("  %-34s %8s %12s %12s %10s\n", "queue", "queues", "rays/queue", "us/queue", "Mrays/s");
   for (int k = 0; k < static_cast<int>(wf::TracedQueue::kCount); ++k) {
     const wf::QueueTiming& q = s.traced[k];

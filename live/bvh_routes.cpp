@@ -35,9 +35,7 @@ void walk(RouteContext& ctx, const httplib::Request& req, httplib::Response& res
   const double x = params.number("x", 0, v.settings.width), y = params.number("y", 0, v.settings.height);
   const Camera c = resolve_camera(v.camera, v.settings.width, v.settings.height);
   const Ray ray = camera_ray(c, float(x / v.settings.width), float(1.0 - y / v.settings.height));
-  const Isa isa = ctx.bvh.isa();
-  const bool fused = isa != Isa::kSse42;  // the node test's plane distances fuse multiply and subtract above SSE4.2
-  Bvh4Walk w = walk_bvh4(ctx.bvh.bvh(), ray, fused, kMaxVisits);
+  Bvh4Walk w = walk_bvh4(ctx.bvh, ray, kMaxVisits);
   nlohmann::json visits = nlohmann::json::array();
   for (const Bvh4Visit& s : w.visits)
     visits.push_back({{"box", box_json(s.box)}, {"depth", s.depth}, {"leaf", s.leaf != 0}});

@@ -202,7 +202,7 @@ def render_main(path="out/bench_render.json"):
         scene, engine = e["run_name"].split("/")[1:3]
         runs[(scene, engine)].append(e)
     scenes = sorted({s for s, _ in runs})
-    engines = ["wavefront", "wavefront_packets", "wavefront_single", "wavefront_unsorted", "megakernel", "reference"]
+    engines = ["wavefront", "wavefront_single", "wavefront_unsorted", "megakernel", "reference"]
     print(f"machine: {data['context'].get('host_name', '?')}, {data['context'].get('num_cpus', '?')} CPUs; "
           f"medians of {max(len(v) for v in runs.values()) if runs else 0} interleaved runs\n")
     print("| scene | engine | wall s | Msamples/s | Mrays/s | rays (M) | vs megakernel | sorted by material vs unsorted |")

@@ -51,7 +51,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
     {
       StageTimer t(stats, depth == 0 ? Stage::kIntersectCamera : Stage::kIntersectBounce);
       QueueTimer q(stats, depth == 0 ? TracedQueue::kCamera : TracedQueue::kBounce, rays.size);
-      intersect_closest(tracer, rays, b.hits, b.tracing, stats.primitive_tests, method_for(mode, depth));
+      intersect_closest(tracer, rays, b.hits, b.tracing, stats.primitive_tests, mode);
     }
     if (depth > 0 && options.sort_by_hit_point) {  // camera rays' hits come in pixel order already
       StageTimer t(stats, Stage::kSortHits);
@@ -80,14 +80,13 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
       StageTimer t(stats, depth == 0 ? Stage::kShadowFirstHit : Stage::kShadowLater);
       {
         QueueTimer q(stats, depth == 0 ? TracedQueue::kShadowFirstHit : TracedQueue::kShadowLater, b.shadows.size);
-        find_blocked(tracer, b.shadows, b.tracing, stats.primitive_tests, method_for(mode, depth));
+        find_blocked(tracer, b.shadows, b.tracing, stats.primitive_tests, mode);
       }
       add_unblocked(b.shadows, b.tracing, b.paths);
       if (b.hemisphere.size > 0) {
         {
           QueueTimer q(stats, TracedQueue::kHemisphere, b.hemisphere.size);
-          intersect_hemisphere_rays(tracer, b.hemisphere, b.hits, b.tracing, stats.primitive_tests,
-                                    method_for(mode, depth + 1));
+          intersect_hemisphere_rays(tracer, b.hemisphere, b.hits, b.tracing, stats.primitive_tests, mode);
         }
         add_found_emission(ctx, b.hemisphere, b.hits, b.paths);
       }

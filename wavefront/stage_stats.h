@@ -39,7 +39,7 @@ inline constexpr const char* kStageNames[] = {"generate_camera_rays",
 
 /// The queues the tracer is handed, by kind (the tracer's time is part of the
 /// intersection and shadow stages' time): the queue tracer's time, or with
-/// --trace packets / single the time of those methods.
+/// --trace single that of single rays.
 enum class TracedQueue : int { kCamera, kBounce, kShadowFirstHit, kShadowLater, kHemisphere, kCount };
 inline constexpr const char* kTracedQueueNames[] = {"camera rays", "bounce rays", "shadow rays from first hits",
                                                     "later shadow rays", "hemisphere rays"};

@@ -1,7 +1,7 @@
-// How the wavefront traces its queues: every queue whole through the BVH's
-// queue tracer (the default), the coherent queues of the first bounce as
-// SIMD packets, or every ray on its own (the last two for comparison); and
-// the hook that receives a copy of every queue (ray dumps, benchmarks).
+// How the wavefront traces its queues (--trace): every queue whole through
+// the BVH's queue tracer (the default), or every ray on its own (for
+// comparison); and the hook that receives a copy of every queue (ray dumps,
+// benchmarks).
 #pragma once
 
 #include <cstdint>
@@ -13,24 +13,9 @@
 namespace pt::wf {
 
 enum class TraceMode {
-  kQueue,    ///< every queue whole through the queue tracer (bvh/bvh4_stream.h)
-  kPackets,  ///< camera rays and their shadow rays as SIMD packets, the other rays one by one
-  kSingle,   ///< every ray on its own
+  kQueue,   ///< every queue whole through the queue tracer, which picks each queue's method (docs/bvh.md)
+  kSingle,  ///< every ray on its own, through the single-ray queries (for comparison)
 };
-
-/// How one queue is traced.
-enum class QueueMethod { kQueue, kPackets, kSingle };
-
-/// The method of the queues of `depth` (0: camera rays and the shadow rays
-/// from their hits).
-inline QueueMethod method_for(TraceMode mode, uint32_t depth) {
-  switch (mode) {
-    case TraceMode::kQueue: return QueueMethod::kQueue;
-    case TraceMode::kPackets: return depth == 0 ? QueueMethod::kPackets : QueueMethod::kSingle;
-    case TraceMode::kSingle: break;
-  }
-  return QueueMethod::kSingle;
-}
 
 /// The queues a wave traces.
 enum class QueueKind {

@@ -20,22 +20,12 @@ inline namespace PT_ISA_NS {
 /// tb.blocked[i] = whether shadow ray i is blocked.
 template <class Tracer>
 void find_blocked(const Tracer& tracer, const ShadowQueue& shadows, TracingBuffers& tb, uint64_t& tests,
-                  QueueMethod method) {
+                  TraceMode mode) {
   tb.blocked.resize(std::max(tb.blocked.size(), shadows.size));
   uint8_t* blocked = tb.blocked.data();
-  switch (method) {
-    case QueueMethod::kQueue: tracer.occluded_queue(shadows.arrays(), blocked, tb.scratch, tests); return;
-    case QueueMethod::kPackets: {
-      Ray packet[kLanes];
-      for (size_t i0 = 0; i0 < shadows.size; i0 += kLanes) {
-        size_t n = std::min(kLanes, shadows.size - i0);
-        for (size_t l = 0; l < n; ++l) packet[l] = shadows.ray(i0 + l);
-        uint32_t hit = tracer.occluded_packet(packet, lanes_below(n), tests);
-        for (size_t l = 0; l < n; ++l) blocked[i0 + l] = (hit >> l) & 1;
-      }
-      return;
-    }
-    case QueueMethod::kSingle: break;
+  if (mode == TraceMode::kQueue) {
+    tracer.occluded_queue(shadows.arrays(), blocked, tb.scratch, tests);
+    return;
   }
   for (size_t i = 0; i < shadows.size; ++i) blocked[i] = tracer.occluded(shadows.ray(i), tests);
 }
@@ -66,11 +56,11 @@ inline void add_unblocked(const ShadowQueue& shadows, const TracingBuffers& tb, 
 /// Closest hits of the hemisphere-sampling rays into `hits` (free at this stage).
 template <class Tracer>
 void intersect_hemisphere_rays(const Tracer& tracer, const ShadowQueue& rays, HitQueue& hits, TracingBuffers& tb,
-                               uint64_t& tests, QueueMethod method) {
+                               uint64_t& tests, TraceMode mode) {
   hits.reserve(rays.size);
   hits.size = rays.size;
   const HitArrays found = hits.arrays();
-  if (method == QueueMethod::kQueue) {
+  if (mode == TraceMode::kQueue) {
     tracer.intersect_queue(rays.arrays(), found, tb.scratch, tests);
     return;
   }

@@ -70,8 +70,23 @@ TEST(Bvh4Level, BoxesNestByDepthAndCoverEverySlotOnce) {
   }
 }
 
+/// Whether the ray's segment [tmin, tmax] meets box b (within a relative
+/// 1e-5 of the box's size, the slab test's rounding).
+bool segment_meets(const Ray& r, const BBox& b) {
+  float tn = r.tmin, tf = r.tmax;
+  const float3 pad = b.extent() * 1e-5f + float3(1e-6f);
+  for (int a = 0; a < 3; ++a) {
+    const float lo = (b.lower[a] - pad[a] - r.org[a]) / r.dir[a], hi = (b.upper[a] + pad[a] - r.org[a]) / r.dir[a];
+    tn = std::max(tn, std::min(lo, hi));
+    tf = std::min(tf, std::max(lo, hi));
+  }
+  return tn <= tf;
+}
+
 TEST(Bvh4Walk, FindsTheEnginesHitAndTestsItsNodes) {
-  const bool fused = active_isa() != Isa::kSse42;
+  // The walk the live view draws is the engine's: the same hit and nodes,
+  // and every node or leaf it visits lies one level below one visited before
+  // (or higher up, after a pop), in a box the ray's segment meets.
   for (const auto& path : scenes()) {
     SCOPED_TRACE(path.filename().string());
     LoadResult loaded = load_collada_file(path);
@@ -95,8 +110,8 @@ TEST(Bvh4Walk, FindsTheEnginesHitAndTestsItsNodes) {
     for (const Ray& r : rays) {
       TraversalCounters counters;
       Hit engine;
-      accel.intersect(r, engine, counters);
-      Bvh4Walk walk = walk_bvh4(accel.bvh(), r, fused, 1 << 20);
+      accel.intersect(r, engine, &counters);
+      Bvh4Walk walk = walk_bvh4(accel, r, 1 << 20);
       ASSERT_EQ(walk.inner_nodes, counters.nodes);
       ASSERT_EQ(walk.visits.size(), walk.inner_nodes + walk.leaves);
       if (!engine.is_sphere()) {
@@ -109,6 +124,10 @@ TEST(Bvh4Walk, FindsTheEnginesHitAndTestsItsNodes) {
         EXPECT_EQ(walk.visits[0].depth, 0u);
         visits_checked += walk.visits.size();
       }
+      for (size_t k = 1; k < walk.visits.size(); ++k) {
+        ASSERT_LE(walk.visits[k].depth, walk.visits[k - 1].depth + 1) << "visit " << k;
+        ASSERT_TRUE(segment_meets(r, walk.visits[k].box)) << "visit " << k;
+      }
     }
     if (bvh4_max_depth(accel.bvh()) > 0) { EXPECT_GT(visits_checked, rays.size()); }
   }
@@ -119,7 +138,7 @@ TEST(Bvh4Walk, RaysThatCannotBeTracedVisitNothing) {
   SceneBvh4 accel(loaded.scene);
   for (Ray r : {Ray{{0, 0, 0}, 0.0f, {NAN, 0, 0}, 1e30f}, Ray{{INFINITY, 0, 0}, 0.0f, {0, 0, 1}, 1e30f},
                 Ray{{0, 0, 0}, 1.0f, {0, 0, 1}, 1.0f}}) {
-    Bvh4Walk w = walk_bvh4(accel.bvh(), r, true, 100);
+    Bvh4Walk w = walk_bvh4(accel, r, 100);
     EXPECT_TRUE(w.visits.empty());
     EXPECT_FALSE(w.hit.valid());
   }

@@ -16,6 +16,7 @@
 #include "bvh/bvh4_build.h"
 #include "bvh/presplit.h"
 #include "bvh/scene_bvh2.h"
+#include "bench/bench_queries.h"
 #include "bvh/scene_bvh4.h"
 #include "support/bvh4_support.h"
 #include "support/test_support.h"
@@ -192,41 +193,51 @@ TEST(Presplit, TreeHoldsEachTriangleOncePerLeafAndMatchesBruteForce) {
   // intersecting triangles).
   SceneBvh2 oracle(s, Bvh2Mode::kBruteForce);
   std::vector<Ray> rays = uniform_random_rays(s, 4000, 19);
-  for (bool watertight : {false, true}) {
-    Bvh4Options split = o, plain;
-    split.watertight = plain.watertight = watertight;
-    SceneBvh4 accel(s, split), unsplit(s, plain);
+  {
+    SceneBvh4 accel(s, o);
     uint64_t tests = 0;
     int wrong = 0, hits = 0;
     for (const Ray& r : rays) {
       Hit expected, actual;
-      if (watertight) unsplit.intersect(r, expected);
-      else oracle.intersect(r, expected, tests);
+      oracle.intersect(r, expected, tests);
       accel.intersect(r, actual);
       hits += expected.valid();
       wrong += !same_closest_hit(expected, actual, scene_scale(s));
-      wrong += accel.occluded(r) != (watertight ? unsplit.occluded(r) : oracle.occluded(r, tests));
+      wrong += accel.occluded(r) != oracle.occluded(r, tests);
     }
-    EXPECT_EQ(wrong, 0) << (watertight ? "watertight" : "Moller-Trumbore");
+    EXPECT_EQ(wrong, 0) << "Moller-Trumbore";
     EXPECT_GT(hits, 400);
   }
-  // Packets (subtrees handed to single rays, triangles in several leaves)
-  // answer like single rays on the same pre-split tree.
-  SceneBvh4 accel(s, o);
-  std::vector<Hit> packet_hits(rays.size());
-  accel.intersect(rays, packet_hits);
-  int wrong = 0;
-  for (size_t i = 0; i < rays.size(); i += accel.packet_lanes()) {
-    size_t count = std::min<size_t>(accel.packet_lanes(), rays.size() - i);
-    uint32_t blocked = accel.occluded_packet(&rays[i], lanes_below(count));
-    for (size_t k = 0; k < count; ++k) {
-      Hit single;
-      accel.intersect(rays[i + k], single);
-      wrong += !same_closest_hit(single, packet_hits[i + k], scene_scale(s));
-      wrong += accel.occluded(rays[i + k]) != bool(blocked >> k & 1);
+  {
+    Bvh4Options plain;
+    bench::WatertightBvh4 accel(s, o), unsplit(s, plain);
+    int wrong = 0;
+    for (const Ray& r : rays) {
+      Hit expected, actual;
+      unsplit.intersect(r, expected);
+      accel.intersect(r, actual);
+      wrong += !same_closest_hit(expected, actual, scene_scale(s));
+      wrong += accel.occluded(r) != unsplit.occluded(r);
     }
+    EXPECT_EQ(wrong, 0) << "watertight";
   }
-  EXPECT_EQ(wrong, 0) << "packets";
+  // The queue tracer (streams: subtrees handed to walks, triangles in several
+  // leaves) answers like single rays on the same pre-split tree.
+  SceneBvh4 accel(s, o);
+  QueueArrays q(rays);
+  QueueScratch scratch;
+  accel.intersect_queue(q.rays(), q.hits(), scratch);
+  std::vector<uint8_t> blocked(rays.size());
+  accel.occluded_queue(q.rays(), blocked.data(), scratch);
+  int wrong = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    Hit single;
+    accel.intersect(rays[i], single);
+    const Hit got = q.hit(i);
+    wrong += std::memcmp(&single, &got, sizeof(Hit)) != 0;
+    wrong += accel.occluded(rays[i]) != bool(blocked[i]);
+  }
+  EXPECT_EQ(wrong, 0) << "queue tracer";
 }
 
 TEST(Presplit, ABudgetBeyondWhatCanBeCutCutsEverySplittableTriangleTheMost) {

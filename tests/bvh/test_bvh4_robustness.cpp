@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bench/bench_queries.h"
 #include "bvh/scene_bvh4.h"
 #include "kernels/math/sampling.h"
 #include "support/bvh4_support.h"
@@ -50,10 +51,8 @@ TEST(Bvh4Robustness, AxisAlignedRaysMatchBruteForce) {
   Scene room = built_in_scene();  // axis-aligned walls: flat boxes
   for (const Scene* s : {&scene, &room}) {
     SceneBvh2 oracle(*s, Bvh2Mode::kBruteForce);
-    for (bool watertight : {false, true}) {
-      Bvh4Options o;
-      o.watertight = watertight;
-      SceneBvh4 bvh(*s, o);
+    const bench::WatertightBvh4 both(*s);
+    auto check = [&](const auto& bvh, const char* form) {
       std::vector<Ray> rays = uniform_random_rays(*s, 300, 5);
       uint64_t tests = 0;
       for (size_t i = 0; i < rays.size(); ++i) {
@@ -64,10 +63,12 @@ TEST(Bvh4Robustness, AxisAlignedRaysMatchBruteForce) {
         Hit expected, actual;
         oracle.intersect(r, expected, tests);
         bvh.intersect(r, actual);
-        EXPECT_TRUE(same_closest_hit(expected, actual, scene_scale(*s))) << "ray " << i;
-        EXPECT_EQ(oracle.occluded(r, tests), bvh.occluded(r)) << "ray " << i;
+        EXPECT_TRUE(same_closest_hit(expected, actual, scene_scale(*s))) << form << " ray " << i;
+        EXPECT_EQ(oracle.occluded(r, tests), bvh.occluded(r)) << form << " ray " << i;
       }
-    }
+    };
+    check(both.moller_trumbore(), "Moller-Trumbore");
+    check(both, "watertight");
   }
 }
 
@@ -88,11 +89,9 @@ TEST(Bvh4Robustness, DegenerateTrianglesNeverHit) {
     s.triangles.push_back({n + t.v0, n + t.v1, n + t.v2});
     targets.push_back(a + d * 0.25f);  // on the segment of every shape but the point
   }
-  for (bool watertight : {false, true}) {
-    Bvh4Options o;
-    o.watertight = watertight;
-    SceneBvh4 bvh(s, o);
-    EXPECT_EQ(bvh.stats().triangles, first_degenerate);
+  const bench::WatertightBvh4 both(s);
+  EXPECT_EQ(both.moller_trumbore().stats().triangles, first_degenerate);
+  auto check = [&](const auto& bvh) {
     int hits = 0;
     std::uniform_real_distribution<float> u(-6.0f, 6.0f);
     for (const float3& target : targets)
@@ -104,7 +103,9 @@ TEST(Bvh4Robustness, DegenerateTrianglesNeverHit) {
         EXPECT_LT(hit.prim, first_degenerate) << "degenerate triangle " << hit.prim << " was hit";
       }
     EXPECT_GT(hits, 0);  // some rays meet the sphere: the queries really ran
-  }
+  };
+  check(both.moller_trumbore());
+  check(both);
 }
 
 TEST(Bvh4Robustness, RaysStartingOnASurfaceReturnValidHits) {
@@ -137,7 +138,8 @@ TEST(Bvh4Robustness, RaysStartingOnASurfaceReturnValidHits) {
 }
 
 /// Counts rays from inside the closed sphere that hit nothing.
-int count_misses(const SceneBvh4& bvh, const std::vector<Ray>& rays) {
+template <class Accel>
+int count_misses(const Accel& bvh, const std::vector<Ray>& rays) {
   int misses = 0;
   for (const Ray& r : rays) {
     Hit hit;
@@ -164,13 +166,12 @@ TEST(Bvh4Robustness, WatertightTestLetsNoRayOutOfAClosedSphere) {
     float3 o = c + to_float3(sample_uniform_sphere(u01(rng), u01(rng))) * (0.9f * std::cbrt(u01(rng)));
     rays.push_back({o, 0.0f, to_float3(sample_uniform_sphere(u01(rng), u01(rng))), kInfinity});
   }
-  Bvh4Options watertight;
-  watertight.watertight = true;
-  EXPECT_EQ(count_misses(SceneBvh4(s, watertight), rays), 0) << "of " << rays.size() << " rays";
-  Bvh4Options split = watertight;  // a tree over fragments must not lose a hit either
+  const bench::WatertightBvh4 watertight(s);
+  EXPECT_EQ(count_misses(watertight, rays), 0) << "of " << rays.size() << " rays";
+  Bvh4Options split;  // a tree over fragments must not lose a hit either
   split.presplit_budget = 1.0f;
-  EXPECT_EQ(count_misses(SceneBvh4(s, split), rays), 0) << "pre-split, of " << rays.size() << " rays";
-  int mt_misses = count_misses(SceneBvh4(s), rays);
+  EXPECT_EQ(count_misses(bench::WatertightBvh4(s, split), rays), 0) << "pre-split, of " << rays.size() << " rays";
+  int mt_misses = count_misses(watertight.moller_trumbore(), rays);
   RecordProperty("moller_trumbore_misses", mt_misses);
   std::printf("Moller-Trumbore BVH4: %d of %zu rays escaped the closed sphere\n", mt_misses, rays.size());
 }

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bench/bench_queries.h"
 #include "bvh/scene_bvh4.h"
 #include "kernels/simd/isa.h"
 #include "support/bvh4_support.h"
@@ -55,7 +56,8 @@ std::vector<Expected> expected_answers(const Scene& scene) {
   return sets;
 }
 
-void expect_same_answers(const Scene& scene, const SceneBvh4& bvh, const Expected& e) {
+template <class Accel>
+void expect_same_answers(const Scene& scene, const Accel& bvh, const Expected& e) {
   int failures = 0;
   float scale = scene_scale(scene);
   for (size_t i = 0; i < e.rays.size() && failures < 5; ++i) {
@@ -70,17 +72,18 @@ void expect_same_answers(const Scene& scene, const SceneBvh4& bvh, const Expecte
   }
 }
 
-/// Both triangle tests against the same brute-force answers.
+/// Both triangle tests (the renderer's, and the benchmark's watertight
+/// form) against the same brute-force answers.
 void check_scene(const Scene& scene) {
   std::vector<Expected> sets = expected_answers(scene);
   ASSERT_FALSE(sets.back().rays.empty());
-  for (bool watertight : {false, true}) {
-    SCOPED_TRACE(watertight ? "watertight" : "Moller-Trumbore");
-    Bvh4Options options;
-    options.watertight = watertight;
-    SceneBvh4 bvh(scene, options);
-    for (const Expected& e : sets) expect_same_answers(scene, bvh, e);
+  const bench::WatertightBvh4 bvh(scene);
+  {
+    SCOPED_TRACE("Moller-Trumbore");
+    for (const Expected& e : sets) expect_same_answers(scene, bvh.moller_trumbore(), e);
   }
+  SCOPED_TRACE("watertight");
+  for (const Expected& e : sets) expect_same_answers(scene, bvh, e);
 }
 
 class Bvh4SharedScene : public ::testing::TestWithParam<std::string> {};
@@ -111,14 +114,14 @@ TEST(Bvh4Counters, CountedQueriesGiveTheSameAnswersAndCountWork) {
   for (const Ray& r : rays) {
     Hit plain, counted;
     TraversalCounters c;
-    bool a = bvh.intersect(r, plain), b = bvh.intersect(r, counted, c);
+    bool a = bvh.intersect(r, plain), b = bvh.intersect(r, counted, &c);
     EXPECT_EQ(a, b);
     EXPECT_EQ(plain.prim, counted.prim);
     EXPECT_EQ(plain.t, counted.t);
     EXPECT_GE(c.nodes, 1u);                         // the root is an inner node: its children are always tested
     EXPECT_GE(c.primitives, scene.spheres.size());  // spheres are always tested
     TraversalCounters o;
-    EXPECT_EQ(bvh.occluded(r), bvh.occluded(r, o));
+    EXPECT_EQ(bvh.occluded(r), bvh.occluded(r, &o));
     EXPECT_GE(o.primitives, scene.spheres.size());
   }
 }
@@ -130,14 +133,14 @@ TEST(Bvh4Counters, OneTriangleIsOneLeafAndOneTest) {
   SceneBvh4 bvh(scene);
   TraversalCounters c;
   Hit hit;
-  ASSERT_TRUE(bvh.intersect(Ray{{0.25f, 0.25f, 1.0f}, 0.0f, {0, 0, -1}, kInfinity}, hit, c));
+  ASSERT_TRUE(bvh.intersect(Ray{{0.25f, 0.25f, 1.0f}, 0.0f, {0, 0, -1}, kInfinity}, hit, &c));
   EXPECT_EQ(hit.prim, 0u);
   EXPECT_FLOAT_EQ(hit.t, 1.0f);
   EXPECT_FLOAT_EQ(hit.u, 0.25f);
   EXPECT_FLOAT_EQ(hit.v, 0.25f);
   EXPECT_EQ(c.nodes, 0u);       // the root is the leaf
   EXPECT_EQ(c.primitives, 1u);  // padding lanes are not counted
-  EXPECT_TRUE(bvh.occluded(Ray{{0.25f, 0.25f, 1.0f}, 0.0f, {0, 0, -1}, 1.5f}, c));
+  EXPECT_TRUE(bvh.occluded(Ray{{0.25f, 0.25f, 1.0f}, 0.0f, {0, 0, -1}, 1.5f}, &c));
   EXPECT_EQ(c.primitives, 2u);
 }
 

@@ -227,8 +227,8 @@ void expect_identical(const Film& a, const Film& b, const std::string& what) {
   EXPECT_EQ(std::memcmp(a.variance.data(), b.variance.data(), a.variance.size() * sizeof(float)), 0) << what;
 }
 
-// The wavefront traces its queues through the queue tracer, as packets and
-// ray by ray (--trace queue / packets / single): the same image bit for bit
+// The wavefront traces its queues through the queue tracer and ray by ray
+// (--trace queue / single): the same image bit for bit
 // on every scene and mode. Each ray gets the same hit whichever way it is
 // traced; only of two triangles at exactly the same t may another be
 // reported, which none of these renders meets. Shading bounce hits in queue
@@ -244,14 +244,11 @@ TEST(Determinism, EveryTraceModeRendersTheSameImage) {
       mode.apply(rs);
       rs.threads = 2;
       Camera cam = resolve_camera(scene, rs.width, rs.height);
-      wf::WavefrontOptions queue, packets, single, queue_order;
-      packets.trace = wf::TraceMode::kPackets;
+      wf::WavefrontOptions queue, single, queue_order;
       single.trace = wf::TraceMode::kSingle;
       queue_order.sort_by_hit_point = false;
       const wf::Tracing tracing{.bvh4 = &bvh};
       Film base = wf::render_wavefront(scene, cam, rs, tracing, queue).film;
-      expect_identical(base, wf::render_wavefront(scene, cam, rs, tracing, packets).film,
-                       path + " (" + mode.name + "): queue vs packets");
       expect_identical(base, wf::render_wavefront(scene, cam, rs, tracing, single).film,
                        path + " (" + mode.name + "): queue vs single");
       expect_identical(base, wf::render_wavefront(scene, cam, rs, tracing, queue_order).film,

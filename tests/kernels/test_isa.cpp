@@ -31,7 +31,6 @@ TEST(Isa, EveryCompiledLevelHasItsOwnTables) {
   ASSERT_FALSE(compiled_isas().empty());
   for (Isa isa : compiled_isas()) {
     EXPECT_EQ(bvh4_query_table(isa).isa, isa);
-    EXPECT_EQ(bvh4_query_table(isa).packet_lanes, isa_lanes(isa));
     EXPECT_EQ(wf::engine_table(isa).isa, isa);
     EXPECT_EQ(test::lane_probes(isa).isa, isa);
     EXPECT_EQ(test::lane_probes(isa).lanes, isa_lanes(isa));

@@ -7,6 +7,18 @@
 
 namespace pt::test {
 
+QueueArrays::QueueArrays(std::span<const Ray> rays) : n(rays.size()) {
+  for (std::vector<float>& f : field) f.resize(n + 1, NAN);
+  for (size_t i = 0; i < n; ++i) {
+    const Ray& r = rays[i];
+    const float f[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
+    for (int k = 0; k < 8; ++k) field[k][i] = f[k];
+  }
+  t.assign(n + 1, kSentinelHit.t), u.assign(n + 1, kSentinelHit.u), v.assign(n + 1, kSentinelHit.v);
+  prim.assign(n + 1, kSentinelHit.prim);
+  blocked.assign(n + 1, kUnwritten);
+}
+
 std::vector<Hit> closest_hits(const SceneBvh2& oracle, const std::vector<Ray>& rays) {
   std::vector<Hit> hits(rays.size());
   uint64_t tests = 0;

@@ -17,25 +17,25 @@ using StreamColumns = std::vector<std::vector<uint32_t>>;
 
 inline namespace PT_ISA_NS {
 
-#define PT_TO_COLUMN(T, name)                                           \
-  static_assert(sizeof(T) == 4);                                        \
-  columns.emplace_back(s.size);                                         \
+#define PT_TO_COLUMN(T, name)    \
+  static_assert(sizeof(T) == 4); \
+  columns.emplace_back(s.size);  \
   if (s.size) std::memcpy(columns.back().data(), s.name.data(), 4 * s.size);
-#define PT_FROM_COLUMN(T, name) \
+#define PT_FROM_COLUMN(T, name)                                          \
   if (s.size) std::memcpy(s.name.data(), columns[f].data(), 4 * s.size); \
   ++f;
-#define PT_STREAM_COLUMNS(Stream, FIELDS)                           \
-  inline StreamColumns columns_of(const Stream& s) {                \
-    StreamColumns columns;                                          \
-    FIELDS(PT_TO_COLUMN)                                            \
-    return columns;                                                 \
-  }                                                                 \
+#define PT_STREAM_COLUMNS(Stream, FIELDS)                             \
+  inline StreamColumns columns_of(const Stream& s) {                  \
+    StreamColumns columns;                                            \
+    FIELDS(PT_TO_COLUMN)                                              \
+    return columns;                                                   \
+  }                                                                   \
   inline void from_columns(const StreamColumns& columns, Stream& s) { \
-    s.clear();                                                      \
-    s.reserve(columns[0].size());                                   \
-    s.size = columns[0].size();                                     \
-    size_t f = 0;                                                   \
-    FIELDS(PT_FROM_COLUMN)                                          \
+    s.clear();                                                        \
+    s.reserve(columns[0].size());                                     \
+    s.size = columns[0].size();                                       \
+    size_t f = 0;                                                     \
+    FIELDS(PT_FROM_COLUMN)                                            \
   }
 
 PT_STREAM_COLUMNS(wf::RayQueue, PT_RAY_FIELDS)
@@ -46,5 +46,5 @@ PT_STREAM_COLUMNS(wf::HitQueue, PT_HIT_FIELDS)
 #undef PT_FROM_COLUMN
 #undef PT_TO_COLUMN
 
-}  // inline namespace PT_ISA_NS
+}  // namespace PT_ISA_NS
 }  // namespace pt::test
