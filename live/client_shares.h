@@ -20,9 +20,11 @@
 namespace pt::live {
 
 struct ShareLimits {
-  size_t connections = 48;            ///< open at once, in all
-  size_t per_client = 16;             ///< open at once from one client
-  size_t frame_waits_per_client = 4;  ///< frame requests waiting at once from one client
+  size_t connections = 48;  ///< open at once, in all
+  size_t per_client = 16;   ///< open at once from one client
+  /// frame requests waiting at once from one client: as many as the connections a browser opens to one server
+  /// (six), so that a browser's tabs, each waiting for its next frame, are never refused
+  size_t frame_waits_per_client = 6;
 };
 
 /// The client an address counts as: an IPv4 address itself (also written as an IPv4-mapped IPv6 address),

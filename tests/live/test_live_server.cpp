@@ -506,7 +506,7 @@ TEST_F(LiveServer, FrameRequestsBeyondAClientsShareGet429) {
   EXPECT_EQ(log_count("live: 429"), 1u);
 }
 
-/// The server at the product's limits (48 connections, 16 per client, 4 frame waits per client, 64 threads).
+/// The server at the product's limits (48 connections, 16 per client, 6 frame waits per client, 64 threads).
 class LiveServerAtProductLimits : public LiveServerBase {
  protected:
   LiveServerAtProductLimits() : LiveServerBase({ServerLimits{}, "", "cornell_spheres.dae"}) {}
