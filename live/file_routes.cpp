@@ -3,7 +3,9 @@
 // command line (replaced each time), or to a name the request gives, which
 // must be a plain file name (request_params.h), lands in the start directory
 // and never replaces a file: a name in use is answered 409. Files appear
-// whole (written aside, then renamed or linked into place).
+// whole (written aside, then renamed or linked into place), and a reply that
+// reports a file is made before the file is put in place: a request that
+// fails leaves no file.
 #include "io/atomic_file.h"
 #include "io/camera_setup.h"
 #include "io/image_output.h"
@@ -34,8 +36,9 @@ void save_camera(RouteContext& ctx, const httplib::Request& req, httplib::Respon
   RenderSession::View v = ctx.session.view();
   // The screen fields of the view's size now (the camera it resolves to is the view's either way).
   const ViewCamera camera = fit_screen(v.camera, v.settings.width, v.settings.height);
+  std::string reply = json_text({{"file", path.string()}, {"version", v.version}, {"camera", camera_json(camera)}});
   if (!StagedFile(path, format_camera_settings(camera)).publish(!params.has("name"))) return refuse_taken(res, path);
-  reply_json(res, {{"file", path.string()}, {"version", v.version}, {"camera", camera_json(camera)}});
+  res.set_content(std::move(reply), "application/json");
 }
 
 void start_render(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
@@ -46,8 +49,10 @@ void start_render(RouteContext& ctx, const httplib::Request& req, httplib::Respo
   if (named && taken(path)) return refuse_taken(res, path);
   if (named && adaptive && taken(rate_image_path(path))) return refuse_taken(res, rate_image_path(path));
   check_writable(path);
+  std::string reply = json_text({{"file", path.string()}, {"state", "rendering"}});
   if (std::string why = ctx.session.start_job(path, !named); !why.empty()) return reply_error(res, 409, why);
-  reply_json(res, {{"file", path.string()}, {"state", "rendering"}}, 202);
+  res.status = 202;
+  res.set_content(std::move(reply), "application/json");
 }
 
 }  // namespace

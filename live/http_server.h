@@ -1,11 +1,13 @@
 // The live view's HTTP server: cpp-httplib's parsing and routing over
-// connections with hard limits (connection_stream.h), a cap on the
-// connections open at once, a bounded request body, and one log line for
-// every request refused (status 400 and up) or timed out. Requests are
-// framed plainly: no Range header (refused before httplib parses it), no
-// Transfer-Encoding or Content-Encoding, a body only on a POST and only as
-// Content-Length bytes within the limit; each is checked before any body is
-// read, and a refusal closes the connection.
+// connections with hard limits (connection_stream.h), connections shared
+// fairly between clients (client_shares.h), and one log line for every
+// request refused (status 400 and up) or timed out and every connection one
+// client's share took from another. Requests are framed plainly and carry no
+// body (no route reads one): no Range header (refused before httplib parses
+// it), no Transfer-Encoding, Content-Encoding or multipart Content-Type, a
+// Content-Length of 0 on a POST, Host and X-PT-Live as sent (not
+// percent-encoded); each is checked before httplib reads or parses a body,
+// and a refusal closes the connection.
 #pragma once
 
 #include <atomic>
@@ -13,20 +15,21 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <httplib.h>
 
+#include "client_shares.h"
 #include "connection_stream.h"
 
 namespace pt::live {
 
 struct ServerLimits {
   StreamLimits stream;
+  ShareLimits shares;                          ///< connections at once, in all and per client; frame waits per client
   std::chrono::milliseconds keep_alive{5000};  ///< an idle connection is closed after this long
-  size_t max_connections = 48;                 ///< more at once are answered 503 and closed
-  size_t threads = 64;                         ///< connections served at once (the rest wait their turn)
+  size_t threads = 64;  ///< connections served at once: more than shares.connections, so that refusals find one
   size_t max_requests_per_connection = 1000;
-  size_t max_body_bytes = 16 * 1024;  ///< larger bodies are refused with 413
 };
 
 /// Where log lines go (one line each, without the newline).
@@ -38,7 +41,8 @@ std::string log_safe(const std::string& text, size_t max = 200);
 
 class HttpServer : public httplib::Server {
  public:
-  HttpServer(const ServerLimits& limits, LogSink log);
+  /// `now` is the clock of every deadline (none: steady_clock's).
+  HttpServer(const ServerLimits& limits, LogSink log, NowFunction now = {});
 
   /// Binds to host:port (port 0: any free port); the port bound, or -1.
   int bind(const std::string& host, int port);
@@ -49,8 +53,10 @@ class HttpServer : public httplib::Server {
   void stop();
   bool stopping() const { return stopping_.load(); }
   void log(const std::string& line) const { log_(line); }
-  /// Connections open now.
-  size_t open_connections() const { return open_.load(); }
+  /// Connections open now (admitted and not yet closed or taken by another client).
+  size_t open_connections() const { return shares_.open(); }
+  /// The clients' shares: a frame request holds a FrameWait of them while it waits.
+  ClientShares& shares() { return shares_; }
 
  private:
   bool process_and_close_socket(socket_t sock) override;
@@ -60,10 +66,14 @@ class HttpServer : public httplib::Server {
   void send_bare(int fd, int status, const char* reason) const;
   /// Refuses a request whose body or framing the server does not take (status and X-PT-Error set); false if fine.
   bool refuse_framing(const httplib::Request& req, httplib::Response& res) const;
+  /// Serves the requests of an admitted connection until it closes.
+  bool serve(int sock, ConnectionStream& stream, uint64_t id, const std::string& who);
 
   ServerLimits limits_;
   LogSink log_;
-  std::atomic<size_t> open_{0};
+  NowFunction now_;
+  ClientShares shares_;
+  const std::vector<std::string> literal_headers_{"host", "x-pt-live"};
   std::atomic<bool> stopping_{false};
 };
 

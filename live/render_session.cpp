@@ -250,6 +250,7 @@ bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Prog
       return true;
     }
     // While the camera moves, the next move is awaited rather than more samples of this view.
+    if (config_.on_idle) config_.on_idle();
     if (moving) work_cv_.wait_until(lock, moving_until_);
     else work_cv_.wait(lock);
   }

@@ -48,7 +48,10 @@ struct SessionConfig {
   size_t wave_paths = 4096;                        ///< camera samples per wave at -l 1 (fewer for more light samples)
   std::function<void(uint64_t chunk)> on_chunk;    ///< tests: called after each chunk of paths (render threads)
   std::function<void(const FrameInfo&)> on_frame;  ///< tests: called as each frame is published (render thread)
-  std::function<void(const std::string&)> log;     ///< one line per render failure (none: stderr)
+  /// tests: called each time the render thread, with nothing to do, starts waiting for a change (render
+  /// thread, under the session's lock: it must not call the session)
+  std::function<void()> on_idle;
+  std::function<void(const std::string&)> log;  ///< one line per render failure (none: stderr)
 };
 
 /// A camera move from the page, in pixels of the view (zoom: wheel steps).

@@ -107,11 +107,11 @@ size_t RequestParams::choice(std::string_view name, std::span<const char* const>
 
 std::string RequestParams::file_name(std::string_view name, std::string_view extension) const {
   const std::string& s = text(name);
-  bool ok = s.size() > extension.size() && s.size() <= 64 && s[0] != '.' && s.ends_with(extension);
+  bool ok = s.size() > extension.size() && s.size() <= 64 && s[0] != '.' && s[0] != '-' && s.ends_with(extension);
   for (char c : s) ok &= std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
   if (!ok)
-    fail(name, "a file name of 1-64 letters, digits, '_', '-' and '.' ending in " + std::string(extension) +
-                   " (no directories)");
+    fail(name, "a file name of 1-64 letters, digits, '_', '-' and '.', not starting with '.' or '-', ending in " +
+                   std::string(extension) + " (no directories)");
   return s;
 }
 

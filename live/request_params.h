@@ -37,7 +37,8 @@ class RequestParams {
   float3 vector(std::string_view name, float limit) const;
   /// The index of the value in `names`.
   size_t choice(std::string_view name, std::span<const char* const> names) const;
-  /// A file name: 1-64 characters of [A-Za-z0-9_.-], not starting with '.', ending in `extension`.
+  /// A file name: 1-64 characters of [A-Za-z0-9_.-], starting with a letter, digit or '_' (not '.': hidden;
+  /// not '-': a command line would read it as an option), ending in `extension`.
   std::string file_name(std::string_view name, std::string_view extension) const;
 
  private:

@@ -1,7 +1,8 @@
 // What the route files share: the context every handler sees, JSON and
 // error replies (an error is a status, a one-line X-PT-Error header the log
 // repeats, and {"error": ...}), and the wrapper that turns a bad parameter
-// into 400 and a failed write into 500.
+// into 400 and a failed write into 500. Every JSON reply survives any name:
+// bytes that are not UTF-8 are replaced (json_text).
 #pragma once
 
 #include <functional>
@@ -19,10 +20,14 @@ namespace pt::live {
 struct RouteContext {
   RenderSession& session;
   const SceneBvh4& bvh;
+  ClientShares& shares;  ///< the server's: frame requests wait within their client's share
   RouteConfig config;
   int bvh_max_depth = -1;  ///< bvh4_max_depth, walked once (every node) rather than per request
 };
 
+/// `body` as JSON text. Strings that are not UTF-8 (a file or scene name in another encoding: they are bytes)
+/// have each bad byte replaced by U+FFFD, so that no name can make a reply fail.
+std::string json_text(const nlohmann::json& body);
 /// Replies with `body` as JSON (200 unless `status` says otherwise).
 void reply_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
 /// Replies with an error: status, X-PT-Error and {"error": message}.

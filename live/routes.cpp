@@ -17,9 +17,13 @@
 
 namespace pt::live {
 
+std::string json_text(const nlohmann::json& body) {
+  return body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 void reply_json(httplib::Response& res, const nlohmann::json& body, int status) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(json_text(body), "application/json");
 }
 
 void reply_error(httplib::Response& res, int status, const std::string& message) {
@@ -158,7 +162,9 @@ void add_state_routes(httplib::Server& server, RouteContext& ctx) {
                           {{"frames", n.frames},
                            {"passes_cancelled", n.passes_cancelled},
                            {"max_chunks_after_cancel", n.max_chunks_after_cancel},
-                           {"last_cancel_seconds", n.last_cancel_seconds}}},
+                           {"last_cancel_seconds", n.last_cancel_seconds},
+                           {"connections", ctx.shares.open()},
+                           {"frame_waits", ctx.shares.frame_waits()}}},
                          {"names", {{"display", kDisplayNames}, {"bounces", kBounceNames}, {"direct", kDirectNames}}}});
              }));
   server.Get("/api/render", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
@@ -169,11 +175,17 @@ void add_state_routes(httplib::Server& server, RouteContext& ctx) {
 
 /// GET /api/frame?after=N: the newest frame once newer than N, as
 /// [u32 little-endian length of the JSON][the JSON][width * height * 4 RGBA bytes]; 204 after the wait;
-/// 500 when the view's render failed; 503 once the server stops (the page then waits before asking again).
+/// 429 when the client has its share of frame requests waiting already; 500 when the view's render failed;
+/// 503 once the server stops (the page then waits before asking again).
 void add_frame_route(httplib::Server& server, RouteContext& ctx) {
   server.Get("/api/frame", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
                RequestParams params(req.params, {"after"});
                uint64_t after = params.has("after") ? uint64_t(params.integer("after", 0, int64_t(1) << 53)) : 0;
+               FrameWait wait(ctx.shares, client_of(req.remote_addr));
+               if (!wait)
+                 return reply_error(res, 429,
+                                    "this client has " + std::to_string(ctx.shares.limits().frame_waits_per_client) +
+                                        " frame requests waiting already");
                std::shared_ptr<const Frame> frame = ctx.session.frame_after(after, ctx.config.frame_wait);
                if (ctx.session.stopped()) {
                  res.set_header("Connection", "close");
@@ -186,7 +198,7 @@ void add_frame_route(httplib::Server& server, RouteContext& ctx) {
                  return;
                }
                auto head = std::make_shared<std::string>(4, '\0');
-               const std::string meta = frame_json(frame->info, ctx.session.view().settings_version).dump();
+               const std::string meta = json_text(frame_json(frame->info, ctx.session.view().settings_version));
                const uint32_t n = uint32_t(meta.size());
                for (int i = 0; i < 4; ++i) (*head)[i] = char((n >> (8 * i)) & 0xff);
                *head += meta;
@@ -213,7 +225,8 @@ void add_frame_route(httplib::Server& server, RouteContext& ctx) {
 }  // namespace
 
 void add_routes(HttpServer& server, RenderSession& session, const SceneBvh4& bvh, const RouteConfig& config) {
-  auto ctx = std::make_shared<RouteContext>(RouteContext{session, bvh, config, bvh4_max_depth(bvh.bvh())});
+  auto ctx =
+      std::make_shared<RouteContext>(RouteContext{session, bvh, server.shares(), config, bvh4_max_depth(bvh.bvh())});
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
                               {"X-Frame-Options", "DENY"},
                               {"Referrer-Policy", "no-referrer"},

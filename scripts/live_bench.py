@@ -46,6 +46,7 @@ class Live:
             if not line:
                 sys.exit("the server did not start: " + self.process.stderr.read())
         self.url = re.search(r"(http://[^/]+)/", line).group(1)
+        self.cameras_saved = 0  # a named file is never replaced: each camera gets a name of its own
 
     def post(self, path):
         request = urllib.request.Request(self.url + path, method="POST", headers={"X-PT-Live": "1"})
@@ -104,7 +105,9 @@ def time_to_samples(live, samples):
         after = f["id"]
         if f["version"] == version and f["samples"] >= samples:
             wall = time.time() - t0
-            return wall, f["seconds"], live.post("/api/camera/save?name=bench_camera.txt")["file"]
+            live.cameras_saved += 1
+            name = "bench_camera_%d.txt" % live.cameras_saved
+            return wall, f["seconds"], live.post("/api/camera/save?name=" + name)["file"]
 
 
 def cli_seconds(binary, flags, scene, samples, camera):

@@ -5,6 +5,7 @@
 // within one wave, tabs share one render, and the Render job writes the view.
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <mutex>
 #include <cstring>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "bvh/scene_bvh4.h"
 #include "io/image_output.h"
 #include "live/render_session.h"
+#include "support/http_probe.h"
 #include "support/run_process.h"
 #include "support/test_support.h"
 #include "wavefront/engines.h"
@@ -131,15 +133,37 @@ INSTANTIATE_TEST_SUITE_P(Settings, StillView,
                                                    }}),
                          [](const auto& info) { return std::string(info.param.name); });
 
-/// Every frame the session publishes (width, samples, version), in order.
+/// Every frame the session publishes (width, samples, version), in order, and how many times its render
+/// thread has had nothing to do.
 struct FrameLog {
   std::mutex mutex;
+  std::condition_variable changed;
   std::vector<FrameInfo> frames;
+  size_t idles = 0;           ///< times the render thread started waiting for a change
+  size_t frames_at_idle = 0;  ///< frames published when it last did
   void attach(SessionConfig& c) {
     c.on_frame = [this](const FrameInfo& f) {
       std::lock_guard lock(mutex);
       frames.push_back(f);
     };
+    c.on_idle = [this] {
+      {
+        std::lock_guard lock(mutex);
+        ++idles;
+        frames_at_idle = frames.size();
+      }
+      changed.notify_all();
+    };
+  }
+  /// Waits until the render thread has nothing to do after publishing `frame_count` frames in all: it will
+  /// render nothing more until something changes. False if that does not come within a minute (a timeout).
+  bool idle_after(size_t frame_count) {
+    std::unique_lock lock(mutex);
+    return changed.wait_for(lock, std::chrono::seconds(60), [&] { return idles > 0 && frames_at_idle >= frame_count; });
+  }
+  size_t count() {
+    std::lock_guard lock(mutex);
+    return frames.size();
   }
   std::vector<FrameInfo> of_version(uint64_t v) {
     std::lock_guard lock(mutex);
@@ -391,8 +415,9 @@ TEST(RenderSession, ADragShowsPreviewsUntilItEnds) {
   RenderSession session(cornell().scene(), cornell().bvh, c);
   ASSERT_TRUE(complete_frame(session, 1));
   const uint64_t v = session.navigate({NavInput::Kind::kPan, 3.0, 1.0, true});
-  while (log.of_version(v).empty()) std::this_thread::sleep_for(milliseconds(1));
-  std::this_thread::sleep_for(milliseconds(50));
+  // Once the preview is out, the render thread has nothing to do until the drag goes on or ends.
+  ASSERT_TRUE(test::wait_until([&] { return !log.of_version(v).empty(); }));
+  ASSERT_TRUE(log.idle_after(log.count()));
   EXPECT_EQ(log.of_version(v).size(), 1u) << "no samples beyond the preview while the drag goes on";
   EXPECT_EQ(session.navigate({NavInput::Kind::kStill}), v) << "the end of a drag changes no view";
   expect_preview_then_full(log, session, v);
@@ -422,15 +447,17 @@ TEST(RenderSession, ADiscreteMoveAccumulatesAtOnce) {
   for (const FrameInfo& f : log.of_version(v)) EXPECT_EQ(f.width, kW);
 }
 
-/// A session whose render waits at every chunk while `hold` is set.
+/// A session whose render waits at every chunk while `hold` is set, with its frames logged.
 struct HeldSession {
   std::atomic<bool> hold{true};
+  FrameLog log;
   SessionConfig config;
   std::unique_ptr<RenderSession> session;
   explicit HeldSession(int samples) : config(live::config(samples)) {
     config.on_chunk = [this](uint64_t) {
       while (hold.load()) std::this_thread::sleep_for(milliseconds(1));
     };
+    log.attach(config);
     session = std::make_unique<RenderSession>(cornell().scene(), cornell().bvh, config);
   }
 };
@@ -446,7 +473,8 @@ TEST(RenderSession, AMoveCancelsTheRenderJobAndTheJobWritesNoFile) {
   EXPECT_EQ(session.job().message, "the view changed");
   held.hold.store(false);
   ASSERT_TRUE(complete_frame(session, moved));
-  std::this_thread::sleep_for(milliseconds(50));
+  // The render thread writes a job's file before it has nothing more to do.
+  ASSERT_TRUE(held.log.idle_after(held.log.count()));
   EXPECT_TRUE(dir.entries().empty());
 }
 
@@ -459,13 +487,12 @@ TEST(RenderSession, ACancelledJobWritesNoFileWhenItsViewCompletes) {
   EXPECT_EQ(session.job().state, JobState::kCancelled);
   held.hold.store(false);
   ASSERT_TRUE(complete_frame(session, 1));  // the job's view, complete: its file would be written now
-  std::this_thread::sleep_for(milliseconds(50));
+  ASSERT_TRUE(held.log.idle_after(held.log.count()));
   EXPECT_EQ(session.job().state, JobState::kCancelled);
   EXPECT_TRUE(dir.entries().empty());
   // Not cancelled, the same job writes its file.
   ASSERT_EQ(session.start_job(dir / "kept.png"), "");
-  for (int i = 0; i < 500 && session.job().state == JobState::kRendering; ++i)
-    std::this_thread::sleep_for(milliseconds(10));
+  ASSERT_TRUE(test::wait_until([&] { return session.job().state != JobState::kRendering; }));
   EXPECT_EQ(session.job().state, JobState::kDone);
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"kept.png"}));
 }

@@ -53,7 +53,8 @@ TEST(RequestParams, IntegersVectorsChoicesAndFileNames) {
   for (const std::string& bad :
        {std::string("../x.txt"), std::string("/etc/passwd.txt"), std::string("a/b.txt"), std::string(".txt"),
         std::string(".hidden.txt"), std::string("x.png"), std::string("x.txt/"), std::string("a b.txt"),
-        std::string("x.txt\n"), std::string("%2e%2e.txt"), long_name}) {
+        std::string("x.txt\n"), std::string("%2e%2e.txt"), std::string("-rf.txt"), std::string("--help.txt"),
+        long_name}) {
     Map b{{"f", bad}};
     EXPECT_NE(error_of([&] { RequestParams(b, {"f"}).file_name("f", ".txt"); }), "") << bad;
   }
