@@ -117,6 +117,8 @@ std::string add_blender_light(ColladaDocument& doc, pugi::xml_node light, const 
     a.radiance = power * (0.25f / a.area);
     if (!std::isfinite(max_component(a.radiance))) doc.fail(tech, "area light's radiance overflows");
     scene.area_lights.push_back(a);
+    doc.warn({}, "area lights are opaque from behind here (a black surface), while Cycles' lights are transparent: "
+                 "what faces a light's back (a ceiling above a hanging light) is darker (docs/blender_scenes.md)");
     static const char* kShapes[] = {"square", "rectangle", "", "", "disk", "ellipse"};
     return std::string("area light ") + name + ": " + kShapes[static_cast<int>(shape)] + " " + fmt(sx) + " x " +
            fmt(sy) + " m, " + fmt(energy) + " W, colour " + rgb(colour) + ", radiance " + rgb(a.radiance) +
