@@ -24,7 +24,8 @@ float parameter(ColladaDocument& doc, pugi::xml_node tech, const char* name, flo
   pugi::xml_node e = tech.child(name);
   if (!e) return fallback;
   float v = doc.scalar(e, fallback);
-  if (!(v >= lo && v <= hi)) doc.fail(e, std::string(name) + " " + fmt(v) + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
+  if (!(v >= lo && v <= hi))
+    doc.fail(e, std::string(name) + " " + fmt(v) + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
   return v;
 }
 
@@ -100,7 +101,8 @@ std::string add_blender_light(ColladaDocument& doc, pugi::xml_node light, const 
     float shape = parameter(doc, tech, "area_shape", 0.0f, 0.0f, 5.0f);
     bool square = shape == 0.0f || shape == 4.0f;  // square, disk: one size
     if (shape != 0.0f && shape != 1.0f && shape != 4.0f && shape != 5.0f)
-      doc.fail(tech.child("area_shape"), "unknown area shape " + fmt(shape) + " (0 square, 1 rectangle, 4 disk, 5 ellipse)");
+      doc.fail(tech.child("area_shape"),
+               "unknown area shape " + fmt(shape) + " (0 square, 1 rectangle, 4 disk, 5 ellipse)");
     float sx = parameter(doc, tech, "area_size", 0.25f, 0.0f, kMaxSize);
     float sy = square ? sx : parameter(doc, tech, "area_sizey", 0.25f, 0.0f, kMaxSize);
     AreaLight a;
@@ -110,15 +112,17 @@ std::string add_blender_light(ColladaDocument& doc, pugi::xml_node light, const 
     a.dim_y = world.transform_vector({0, sy, 0});
     a.direction = unit_axis(doc, light, world, {0, 0, -1});
     a.area = length(cross(a.dim_x, a.dim_y)) * (a.shape == AreaShape::kEllipse ? kPi / 4.0f : 1.0f);
-    if (!(a.area > 0.0f) || !std::isfinite(a.area)) doc.fail(tech, "area light has zero area or a degenerate transform");
+    if (!(a.area > 0.0f) || !std::isfinite(a.area))
+      doc.fail(tech, "area light has zero area or a degenerate transform");
     float3 half = abs(a.dim_x * 0.5f) + abs(a.dim_y * 0.5f);
     if (!within_coordinate_limit(position + half) || !within_coordinate_limit(position - half))
       doc.fail(tech, "area light lies beyond the coordinate limit 1e15");
     a.radiance = power * (0.25f / a.area);
     if (!std::isfinite(max_component(a.radiance))) doc.fail(tech, "area light's radiance overflows");
     scene.area_lights.push_back(a);
-    doc.warn({}, "area lights are opaque from behind here (a black surface), while Cycles' lights are transparent: "
-                 "what faces a light's back (a ceiling above a hanging light) is darker (docs/blender_scenes.md)");
+    doc.warn({},
+             "area lights are opaque from behind here (a black surface), while Cycles' lights are transparent: "
+             "what faces a light's back (a ceiling above a hanging light) is darker (docs/blender_scenes.md)");
     static const char* kShapes[] = {"square", "rectangle", "", "", "disk", "ellipse"};
     return std::string("area light ") + name + ": " + kShapes[static_cast<int>(shape)] + " " + fmt(sx) + " x " +
            fmt(sy) + " m, " + fmt(energy) + " W, colour " + rgb(colour) + ", radiance " + rgb(a.radiance) +

@@ -68,8 +68,9 @@ std::string blender_file(const std::string& common, const std::string& technique
 }
 
 std::string light_technique(int type, double energy, const std::string& more = "") {
-  return "<type sid=\"type\" type=\"int\">" + std::to_string(type) + "</type><red>1</red><green>1</green><blue>1</blue>" +
-         "<energy sid=\"blender_energy\" type=\"float\">" + std::to_string(energy) + "</energy>" + more;
+  return "<type sid=\"type\" type=\"int\">" + std::to_string(type) +
+         "</type><red>1</red><green>1</green><blue>1</blue>" + "<energy sid=\"blender_energy\" type=\"float\">" +
+         std::to_string(energy) + "</energy>" + more;
 }
 
 std::string translation(double x, double y, double z) {
@@ -94,7 +95,8 @@ float3 floor_radiance(double irradiance) { return kRho * static_cast<float>(irra
 // no inverse-square falloff, the cosine at the floor.
 TEST(BlenderLights, PointLightIsPowerOverFourPiWithInverseSquareFalloff) {
   const double P = 250.0, h = 2.0;
-  Scene s = load(blender_file("<point><color>250 250 250</color></point>", light_technique(0, P), translation(0, 0, h)));
+  Scene s =
+      load(blender_file("<point><color>250 250 250</color></point>", light_technique(0, P), translation(0, 0, h)));
   for (double x : {0.0, 0.7, 2.5}) {
     const double d2 = h * h + x * x, cosine = h / std::sqrt(d2);
     for (const test::EngineUnderTest& e : test::engines_under_test())
@@ -137,8 +139,7 @@ TEST(BlenderLights, SpotLightHasCyclesConeBlendAndAttenuation) {
       // 1e-4: within the band, smoothstep of t = cos - cos_half (a difference of nearby float
       // cosines, t / cos down to 0.02) magnifies their rounding ten-fold.
       test::expect_film_equals(render_floor_point(e, s, x, 0.0, test::fixed_settings(4, 4, 4)),
-                               floor_radiance(P / (4 * kPi * d2) * c * att), e.name + ", x " + std::to_string(x),
-                               1e-4);
+                               floor_radiance(P / (4 * kPi * d2) * c * att), e.name + ", x " + std::to_string(x), 1e-4);
   }
 }
 

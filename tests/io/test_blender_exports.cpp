@@ -86,9 +86,9 @@ TEST(BlenderExports, AreaLightsOfEveryShapeAreWattsOverFourTimesTheirArea) {
     float area;
     float3 colour;
   };
-  const Expected all[] = {{AreaShape::kParallelogram, 0.36f, {1.0f, 0.5f, 0.5f}},          // square 0.6
-                          {AreaShape::kParallelogram, 0.3f, {0.5f, 1.0f, 0.5f}},           // rectangle 1 x 0.3
-                          {AreaShape::kEllipse, kPi * 0.16f, {0.5f, 0.5f, 1.0f}},          // disk 0.8
+  const Expected all[] = {{AreaShape::kParallelogram, 0.36f, {1.0f, 0.5f, 0.5f}},             // square 0.6
+                          {AreaShape::kParallelogram, 0.3f, {0.5f, 1.0f, 0.5f}},              // rectangle 1 x 0.3
+                          {AreaShape::kEllipse, kPi * 0.16f, {0.5f, 0.5f, 1.0f}},             // disk 0.8
                           {AreaShape::kEllipse, kPi / 4 * 1.2f * 0.4f, {1.0f, 1.0f, 1.0f}}};  // ellipse 1.2 x 0.4
   for (const Expected& e : all) {
     const AreaLight* found = nullptr;
@@ -150,10 +150,10 @@ TEST(BlenderExports, CameraSitsAtItsNodeWithBlendersFraming) {
 
 TEST(BlenderExports, SceneInfoListsWhatWasLoadedAndIgnored) {
   std::string info = scene_info(load_export("sun_flat_emissive.dae"));
-  for (const char* fragment : {"read as a Blender 2.80+ export", "node Sun: sun Sun: strength 2.5 W/m^2",
-                               "node Cube: mesh Cube, 12 triangles, flat", "Glow diffuse (0, 0, 0), emission (1, 0.6, 0.2)",
-                               "node Camera: camera Camera: at its node", "ignored or changed",
-                               "a sun's angle is not in Blender's export"})
+  for (const char* fragment :
+       {"read as a Blender 2.80+ export", "node Sun: sun Sun: strength 2.5 W/m^2",
+        "node Cube: mesh Cube, 12 triangles, flat", "Glow diffuse (0, 0, 0), emission (1, 0.6, 0.2)",
+        "node Camera: camera Camera: at its node", "ignored or changed", "a sun's angle is not in Blender's export"})
     EXPECT_NE(info.find(fragment), std::string::npos) << fragment << "\n" << info;
 }
 
@@ -203,8 +203,8 @@ TEST(CourseScenes, Cmu462ProfileIsReadAsCgl) {
 }
 
 TEST(CourseScenes, DuplicateNodeIdsThatNothingReferencesLoadWithOneWarning) {
-  LoadResult r = test::load_string(file(kCmu462Sphere, ball("Sphere") + ball("Sphere") + ball("Other") +
-                                                           ball("Other") + "<node><instance_light url=\"#l\"/></node>"));
+  LoadResult r = test::load_string(file(kCmu462Sphere, ball("Sphere") + ball("Sphere") + ball("Other") + ball("Other") +
+                                                           "<node><instance_light url=\"#l\"/></node>"));
   EXPECT_EQ(r.scene.spheres.size(), 4u);  // every node kept, as the course renderer keeps them
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("2 id(s) carried by more than one <node> (\"Other\""), std::string::npos)
@@ -225,15 +225,16 @@ TEST(CourseScenes, ADuplicateNodeIdThatAReferenceNamesIsRefused) {
 }
 
 TEST(CourseScenes, ADuplicateIdOnAnythingButNodesIsStillRefused) {
-  EXPECT_THROW(test::load_string(file(kCmu462Sphere + "<library_cameras><camera id=\"ball\"/></library_cameras>",
-                                      ball("a"))),
-               InputError);
+  EXPECT_THROW(
+      test::load_string(file(kCmu462Sphere + "<library_cameras><camera id=\"ball\"/></library_cameras>", ball("a"))),
+      InputError);
 }
 
 TEST(Warnings, AllLightsSkippedIsSaidBeforeRendering) {
   std::string lights = R"(<library_lights><light id="spotlight"><technique_common><spot><color>1 1 1</color></spot>
     </technique_common></light></library_lights>)";
-  LoadResult r = test::load_string(file(kCmu462Sphere + lights, ball("a") + "<node><instance_light url=\"#spotlight\"/></node>"));
+  LoadResult r =
+      test::load_string(file(kCmu462Sphere + lights, ball("a") + "<node><instance_light url=\"#spotlight\"/></node>"));
   EXPECT_TRUE(has_warning(r, "all 1 lights the scene places were skipped"));
 }
 

@@ -131,7 +131,7 @@ TEST(SampleRateImage, ColourMapEndpointsAndMidpoints) {
 // channels bit for bit, half channels to half precision (11 bits).
 TEST(ExrOutput, FloatRoundTripsBitForBitAndHalfToHalfPrecision) {
   ScratchDir dir;
-  Film film = gradient_film(20, 17);  // above 16 x 16: the compressed path too
+  Film film = gradient_film(20, 17);           // above 16 x 16: the compressed path too
   for (float3& c : film.radiance) c = abs(c);  // radiance (the reader refuses negative texels)
   film.radiance[film.index(3, 0)] = {1000.0f, 0.001f, 0.0f};
   write_image(dir / "out.exr", film);
