@@ -47,9 +47,8 @@ std::string light_violation(const Scene& s) {
   for (const PointLight& l : s.point_lights) {
     if (!colour_ok(l.radiance) || !is_finite(l.position)) return "bad point light";
     if (!(l.radius >= 0.0f) || !std::isfinite(l.radius)) return "bad point light radius";
-    if ((l.flags & PointLight::kSpot) &&
-        (!unit(l.spot_dir) || !(l.spot_cos_half >= -1.0f && l.spot_cos_half < 1.0f) || !(l.spot_smooth >= 0.0f) ||
-         !std::isfinite(l.spot_smooth)))
+    if ((l.flags & PointLight::kSpot) && (!unit(l.spot_dir) || !(l.spot_cos_half >= -1.0f && l.spot_cos_half < 1.0f) ||
+                                          !(l.spot_smooth >= 0.0f) || !std::isfinite(l.spot_smooth)))
       return "bad spot cone";
   }
   for (const DirectionalLight& l : s.directional_lights)
