@@ -30,11 +30,13 @@ constexpr std::array<const char*, 4> kDirectModes = {"light", "hemisphere", "cos
 constexpr std::array<const char*, 2> kSamplers = {"independent", "sobol"};                     // PixelSampler
 constexpr std::array<const char*, 2> kTraceModes = {"queue", "single"};                        // wf::TraceMode
 constexpr std::array<const char*, 2> kRouletteModes = {"fixed", "throughput"};                 // RouletteMode
+constexpr std::array<const char*, 2> kExrPixels = {"float", "half"};                           // ExrPixel
 
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
   std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard, trace;
+  std::string exr_pixel;
   std::vector<std::string> resolution, adaptive, region;
   bool hemisphere = false, normals = false, cs184 = false, list_isa = false, serve = false;
   std::optional<std::string> serve_port;  ///< the PORT after --serve, if one was given
@@ -125,6 +127,7 @@ void Converter::convert(const RawValues& raw) {
   choice("--bounces", "bounce mode", raw.bounces, kBounceModes, s.bounces);
   choice("--direct", "direct light estimator", raw.direct, kDirectModes, s.direct);
   choice("--sampler", "sampler", raw.sampler, kSamplers, s.sampler);
+  choice("--exr-pixel", "EXR pixel type", raw.exr_pixel, kExrPixels, o_.exr_pixel);
   choice("--rr-mode", "Russian roulette mode", raw.rr_mode, kRouletteModes, s.roulette);
   choice("--trace", "trace mode", raw.trace, kTraceModes, o_.trace);
   if (error.empty()) {  // the level in use: --isa, else the environment's PT_ISA, else the widest
@@ -158,6 +161,7 @@ std::string validate_live(const Options& o) {
     return "--serve: the live view renders with the wavefront engine and the BVH4 (no --engine or --bvh)";
   const char* alone = !o.merge.empty()                   ? "--merge"
                       : !o.export_scene.empty()          ? "--export-scene"
+                      : o.scene_info                     ? "--scene-info"
                       : o.shard_count > 0                ? "--shard"
                       : !o.checkpoint_file.empty()       ? "--checkpoint"
                       : !o.convergence_csv.empty()       ? "--convergence-csv"
@@ -340,6 +344,12 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   path("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
   path("--export-scene", o.export_scene,
        "Write the scene as this renderer reads it (JSON: geometry, materials, lights, the camera at -r) and exit");
+  app.add_option("--exr-pixel", raw.exr_pixel,
+                 "Pixel type of an OpenEXR output (-f out.exr): float (32-bit) or half (16-bit); float")
+      ->type_name("TYPE");
+  app.add_flag("--scene-info", o.scene_info,
+               "Print what the scene file holds as loaded (nodes, meshes, materials, lights, camera) and what the "
+               "loader ignored or changed, then exit");
   path("--checkpoint", o.checkpoint_file,
        "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
   app.add_option("--checkpoint-every", raw.checkpoint_every, "Seconds between checkpoint saves; 60")

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/image_output.h"
 #include "kernels/simd/isa.h"
 #include "kernels/render/render_settings.h"
 #include "wavefront/trace_mode.h"
@@ -25,6 +26,8 @@ struct Options {
   std::optional<float> focal_distance;     ///< -d: thin-lens focal distance
   std::string write_camera_file;           ///< --write-camera
   std::string export_scene;                ///< --export-scene: write the scene as JSON and exit
+  ExrPixel exr_pixel = ExrPixel::kFloat;   ///< --exr-pixel: the pixel type of an .exr output
+  bool scene_info = false;                 ///< --scene-info: print what the scene holds and what was ignored; exit
   std::string checkpoint_file;             ///< --checkpoint: save / resume accumulated state
   double checkpoint_every = 60.0;          ///< seconds between checkpoint saves
   std::string variance_file;               ///< --variance: per-pixel variance PFM

@@ -220,7 +220,7 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
 
   if (out.cancelled) {
     std::filesystem::path partial = cli::partial_path(p.output);
-    write_image(partial, out.film, cli::png_quantization(o));
+    write_image(partial, out.film, cli::png_quantization(o), o.exr_pixel);
     std::fprintf(stderr, "interrupted: wrote the image so far to %s%s\n", partial.c_str(),
                  p.checkpoint.path.empty() ? "" : (" and the state to " + p.checkpoint.path.string()).c_str());
     return 128 + (g_signal ? g_signal : SIGINT);
@@ -263,7 +263,7 @@ int render_across_ranks(const cli::Options& o, const dist::MpiJob& job, Prepared
     // MPI_Finalize for ranks that are gone).
     std::filesystem::path partial = cli::partial_path(p.output);
     if (!p.checkpoint.path.empty()) save_tile_set(p.checkpoint.path, set);
-    write_image(partial, film, cli::png_quantization(o));
+    write_image(partial, film, cli::png_quantization(o), o.exr_pixel);
     std::fprintf(stderr, "interrupted: wrote the %zu of %u tiles finished to %s%s\n", set.tiles.size(), grid.count(),
                  partial.c_str(),
                  p.checkpoint.path.empty() ? "" : (" and to the checkpoint " + p.checkpoint.path.string()).c_str());
@@ -307,8 +307,17 @@ int export_scene(const cli::Options& o) {
   return 0;
 }
 
+/// --scene-info: what the loader made of the file and what it ignored; no render.
+int print_scene_info(const cli::Options& o) {
+  LoadResult loaded = load_collada_file(o.scene_path.empty() ? std::filesystem::path(PT_DEFAULT_SCENE)
+                                                             : std::filesystem::path(o.scene_path));
+  std::fputs(scene_info(loaded).c_str(), stdout);
+  return 0;
+}
+
 int run(const cli::Options& o, const dist::MpiJob& job) {
   if (!o.merge.empty()) return job.rank() == 0 ? cli::run_merge(o) : 0;
+  if (o.scene_info) return job.rank() == 0 ? print_scene_info(o) : 0;
   if (!o.export_scene.empty()) return job.rank() == 0 ? export_scene(o) : 0;
   if (o.serve_port >= 0) {
 #if PT_WITH_LIVE

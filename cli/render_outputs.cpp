@@ -28,7 +28,7 @@ void check_outputs_writable(const Options& o, const std::filesystem::path& outpu
 
 void write_outputs(const Options& o, const std::filesystem::path& output, const Film& film, const Camera& camera) {
   const RenderSettings& rs = o.settings;
-  write_image(output, film, png_quantization(o));
+  write_image(output, film, png_quantization(o), o.exr_pixel);
   if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), film);
   if (!o.variance_file.empty()) write_variance_image(o.variance_file, film);
   if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);

@@ -26,8 +26,26 @@ void widen_to_aspect(double& hfov_deg, double& vfov_deg, int width, int height) 
 
 }  // namespace
 
+/// Blender's camera: its node's placement; the sensor's angle spans the
+/// image's longer side (Auto sensor fit), the other side by the aspect.
+Camera resolve_placed_camera(const CameraDescription& d, int width, int height) {
+  Camera c;
+  c.position = d.position;
+  c.screen_x = d.screen_x;
+  c.screen_y = d.screen_y;
+  c.to_camera = d.to_camera;
+  c.near_clip = d.near_clip;
+  c.far_clip = d.far_clip;
+  double t = std::tan(double(d.hfov_deg) * kRadians / 2);
+  double aspect = double(width) / height;
+  c.tan_half_hfov = static_cast<float>(width >= height ? t : t * aspect);
+  c.tan_half_vfov = static_cast<float>(width >= height ? t / aspect : t);
+  return c;
+}
+
 Camera resolve_camera(const Scene& scene, int width, int height, bool cs184_framing) {
   const CameraDescription& d = scene.camera;
+  if (d.placed) return resolve_placed_camera(d, width, height);
   BBox b = scene.bounds.empty() ? BBox{float3(-1.0f), float3(1.0f)} : scene.bounds;
   float3 target = b.center();
   float distance = 1.5f * length(b.extent());

@@ -17,7 +17,7 @@ float read_fov(ColladaDocument& doc, pugi::xml_node e, float fallback) {
 
 }  // namespace
 
-CameraDescription read_camera(ColladaDocument& doc, pugi::xml_node camera, const Mat4& world) {
+CameraDescription read_camera(ColladaDocument& doc, pugi::xml_node camera, const Mat4& world, bool blender_placement) {
   CameraDescription c;
   pugi::xml_node persp = camera.child("optics").child("technique_common").child("perspective");
   if (!persp) {
@@ -37,6 +37,27 @@ CameraDescription read_camera(ColladaDocument& doc, pugi::xml_node camera, const
     c.near_clip = doc.scalar(persp.child("znear"), c.near_clip);
     c.far_clip = doc.scalar(persp.child("zfar"), c.far_clip);
     if (!(c.near_clip >= 0.0f && c.far_clip > c.near_clip)) doc.fail(persp, "needs 0 <= znear < zfar");
+  }
+  if (blender_placement) {
+    c.placed = true;
+    c.position = world.transform_point({0.0f, 0.0f, 0.0f});
+    float3 axes[3] = {world.transform_vector({1, 0, 0}), world.transform_vector({0, 1, 0}),
+                      world.transform_vector({0, 0, 1})};
+    for (float3& a : axes) {
+      float len = length(a);
+      if (!(len > 0.0f) || !std::isfinite(len) || !within_coordinate_limit(c.position))
+        doc.fail(camera, "camera transform is degenerate or beyond the coordinate limit 1e15");
+      a = a / len;
+    }
+    c.screen_x = axes[0];
+    c.screen_y = normalize(cross(axes[2], axes[0]));  // orthonormal even if the node shears
+    c.to_camera = normalize(cross(c.screen_x, c.screen_y));
+    for (pugi::xml_node t : camera.child("extra").children("technique"))
+      if (std::string_view(t.attribute("profile").value()) == "blender")
+        for (const char* shift : {"shiftx", "shifty"})
+          if (doc.scalar(t.child(shift), 0.0f) != 0.0f)
+            doc.warn(t.child(shift), "Blender's lens shift is not modelled; rendered without it");
+    return c;
   }
   float3 d = world.transform_point({0.0f, 0.0f, -1.0f});
   float len = length(d);

@@ -61,22 +61,43 @@ ColladaDocument::ColladaDocument(std::string label, std::string text)
       if (!inserted) {
         pugi::xml_node later = line_of(n) > line_of(it->second) ? n : it->second;
         pugi::xml_node earlier = later == n ? it->second : n;
-        fail(later,
-             "id \"" + excerpt(id.value()) + "\" is already defined on line " + std::to_string(line_of(earlier)));
+        bool both_nodes = std::string_view(n.name()) == "node" && std::string_view(it->second.name()) == "node";
+        if (!both_nodes)
+          fail(later,
+               "id \"" + excerpt(id.value()) + "\" is already defined on line " + std::to_string(line_of(earlier)));
+        // The course renderer keeps every node (it walks the tree); only a reference to the id is ambiguous.
+        auto [amb, first] = ambiguous_ids_.emplace(id.value(), "defined on lines " + std::to_string(line_of(earlier)) +
+                                                                   " and " + std::to_string(line_of(later)));
+        if (!first) amb->second += " (and more)";
       }
     }
     for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
       if (c.type() == pugi::node_element) stack.push_back(c);
   }
+  if (!ambiguous_ids_.empty()) {
+    auto first = std::min_element(ambiguous_ids_.begin(), ambiguous_ids_.end(),
+                                  [](const auto& a, const auto& b) { return a.first < b.first; });
+    warn({}, std::to_string(ambiguous_ids_.size()) + " id(s) carried by more than one <node> (\"" +
+                 excerpt(first->first) + "\", " + first->second +
+                 "); every node is kept, as the course renderer keeps them, and a reference to such an id is refused");
+  }
 }
 
 pugi::xml_node ColladaDocument::find(std::string_view url) const {
   if (!url.empty() && url.front() == '#') url.remove_prefix(1);
+  if (auto amb = ambiguous_ids_.find(url); amb != ambiguous_ids_.end())
+    fail({}, "a reference to id \"" + excerpt(url) + "\" is ambiguous: several <node> elements carry it (" +
+                 amb->second + ")");
   auto it = ids_.find(url);
   return it == ids_.end() ? pugi::xml_node() : it->second;
 }
 
 pugi::xml_node ColladaDocument::resolve(pugi::xml_node from, std::string_view url) const {
+  std::string_view id = url;
+  if (!id.empty() && id.front() == '#') id.remove_prefix(1);
+  if (auto amb = ambiguous_ids_.find(id); amb != ambiguous_ids_.end())
+    fail(from, "refers to \"" + excerpt(url) + "\", which several <node> elements carry (" + amb->second +
+                   "): the reference is ambiguous");
   pugi::xml_node n = find(url);
   if (!n) fail(from, "refers to \"" + excerpt(url) + "\", which no element defines");
   return n;

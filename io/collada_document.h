@@ -28,10 +28,15 @@ class ColladaDocument {
   pugi::xml_node root() const { return doc_.document_element(); }
   const std::string& label() const { return label_; }
 
-  /// The element with this id ("#id" or "id"); fails naming `from` if absent.
+  /// The element with this id ("#id" or "id"); fails naming `from` if absent,
+  /// or if several <node> elements carry the id (the reference is ambiguous).
   pugi::xml_node resolve(pugi::xml_node from, std::string_view url) const;
-  /// The element with this id, or an empty node.
+  /// The element with this id, or an empty node; fails on an ambiguous id.
   pugi::xml_node find(std::string_view url) const;
+
+  /// Whether a <technique profile="..."> is the course's: "CGL", or "CMU462"
+  /// as the course's earlier offerings wrote it.
+  static bool is_course_profile(std::string_view profile) { return profile == "CGL" || profile == "CMU462"; }
 
   [[noreturn]] void fail(pugi::xml_node where, const std::string& what) const;
   /// Records a one-line warning; repeats of the same line (the same element
@@ -66,6 +71,8 @@ class ColladaDocument {
   pugi::xml_document doc_;
   std::vector<size_t> line_starts_;
   std::unordered_map<std::string_view, pugi::xml_node> ids_;
+  /// Ids that two or more <node> elements carry: "defined on lines a and b".
+  std::unordered_map<std::string_view, std::string> ambiguous_ids_;
   std::vector<std::string> warnings_;
   std::unordered_set<std::string> warned_;
   size_t warnings_dropped_ = 0;

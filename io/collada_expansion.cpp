@@ -19,6 +19,7 @@ SceneExpansion& operator+=(SceneExpansion& a, const SceneExpansion& b) {
   a.instances = saturating_add(a.instances, b.instances);
   a.vertices = saturating_add(a.vertices, b.vertices);
   a.primitives = saturating_add(a.primitives, b.primitives);
+  a.lights = saturating_add(a.lights, b.lights);
   return a;
 }
 
@@ -32,14 +33,14 @@ class ExpansionCounter {
       doc_.fail(node, "nodes nest deeper than " + std::to_string(limits_.max_node_depth) + " levels");
     if (auto it = done_.find(node.internal_object()); it != done_.end()) return it->second;
     if (!active_.insert(node.internal_object()).second) doc_.fail(node, "node instances itself (a cycle)");
-    SceneExpansion e{1, 0, 0};
+    SceneExpansion e{1, 0, 0, 0};
     for (pugi::xml_node child : node.children()) {
       std::string_view kind = child.name();
       if (kind == "node") e += this->node(child, depth + 1);
       else if (kind == "instance_node") e += this->node(doc_.resolve(child, child.attribute("url").value()), depth + 1);
       else if (kind == "instance_geometry") e += geometry(child);
-      else if (kind == "instance_light") e += SceneExpansion{1, 4, 2};
-      else if (kind == "instance_camera") e += SceneExpansion{1, 0, 0};
+      else if (kind == "instance_light") e += SceneExpansion{1, kEllipseSegments + 1, kEllipseSegments, 1};
+      else if (kind == "instance_camera") e += SceneExpansion{1, 0, 0, 0};
       check(child, e);
     }
     active_.erase(node.internal_object());
@@ -51,20 +52,21 @@ class ExpansionCounter {
     auto over = [&](uint64_t n, uint64_t limit, const char* what) {
       if (n > limit)
         doc_.fail(where, "the scene expands to more than " + std::to_string(limit) + " " + what +
-                             " (instance_node repeats a subtree too often)");
+                             " (counting every copy instance_node makes)");
     };
     over(e.instances, limits_.max_instances, "node instances");
     over(e.vertices, limits_.max_vertices, "vertices");
     over(e.primitives, limits_.max_primitives, "primitives");
+    over(e.lights, limits_.max_lights, "lights");
   }
 
  private:
   SceneExpansion geometry(pugi::xml_node inst) {
     pugi::xml_node geometry = doc_.resolve(inst, inst.attribute("url").value());
     pugi::xml_node mesh = geometry.child("mesh");
-    if (!mesh) return {1, 0, 1};  // a sphere, or skipped
+    if (!mesh) return {1, 0, 1, 0};  // a sphere, or skipped
     const MeshData& m = meshes_.get(mesh);
-    return {1, m.positions.size(), m.triangles.size()};
+    return {1, m.positions.size(), m.triangles.size(), 0};
   }
 
   ColladaDocument& doc_;

@@ -15,10 +15,10 @@
 
 namespace pt {
 
-/// Upper bounds of what visiting `visual_scene` adds (area lights counted as
-/// 4 vertices and 2 triangles, every other light too).
+/// Upper bounds of what visiting `visual_scene` adds (every light counted as
+/// the triangles and vertices of an elliptical area light).
 struct SceneExpansion {
-  uint64_t instances = 0, vertices = 0, primitives = 0;
+  uint64_t instances = 0, vertices = 0, primitives = 0, lights = 0;
 };
 
 /// Throws InputError naming the element when the expansion exceeds `limits`,

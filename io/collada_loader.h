@@ -1,6 +1,7 @@
 // Loads a CS184 COLLADA (.dae) scene into the flat scene model. Follows the
 // course renderer's reading of the format (see ../shared/scenes/README.md and
-// docs/cs184_compatibility.md).
+// docs/cs184_compatibility.md); a file that Blender 2.80 or later exported is
+// read as Blender and Cycles mean it (docs/blender_scenes.md).
 #pragma once
 
 #include <filesystem>
@@ -16,6 +17,10 @@ namespace pt {
 struct LoadResult {
   Scene scene;
   std::vector<std::string> warnings;  ///< one line each, naming file and element
+  /// What was loaded, one line per node that placed something (mesh, sphere,
+  /// light, camera), in the file's order, after a line saying how the file
+  /// was read: for --scene-info, to check against Blender's outliner.
+  std::vector<std::string> contents;
   double seconds = 0.0;
 };
 
@@ -28,5 +33,9 @@ LoadResult load_collada_string(std::string_view xml, const std::string& label, c
 
 /// One line: triangles, spheres, lights by type, bounds, load time.
 std::string scene_summary(const LoadResult& r);
+
+/// The --scene-info report: the summary, the contents and the warnings
+/// (what was ignored), one item a line.
+std::string scene_info(const LoadResult& r);
 
 }  // namespace pt

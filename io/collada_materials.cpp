@@ -2,6 +2,7 @@
 #include "collada_materials.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 namespace pt {
@@ -9,7 +10,7 @@ namespace {
 
 pugi::xml_node cgl_technique(pugi::xml_node parent) {
   for (pugi::xml_node t : parent.child("extra").children("technique"))
-    if (std::string_view(t.attribute("profile").value()) == "CGL") return t;
+    if (ColladaDocument::is_course_profile(t.attribute("profile").value())) return t;
   return {};
 }
 
@@ -77,6 +78,79 @@ void MaterialTable::read_scattering(pugi::xml_node cgl_material, Material& m) {
   }
 }
 
+namespace {
+
+bool black_or_absent(ColladaDocument& doc, pugi::xml_node property) {
+  pugi::xml_node c = property.child("color");
+  if (!c) return !property.child("texture");
+  float3 v = doc.color(c);
+  return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f;
+}
+
+}  // namespace
+
+/// The common profile's shader: its diffuse colour (and, from Blender, its
+/// emission); every other property that would change the image is named.
+void MaterialTable::read_common(pugi::xml_node effect, Material& m) {
+  for (pugi::xml_node p : effect.children()) {
+    std::string_view kind = p.name();
+    if (kind != "profile_COMMON" && kind != "extra" && kind != "asset" && kind != "annotate")
+      doc_.warn(p, "effect profile not read (only profile_COMMON and the CGL technique are)");
+  }
+  pugi::xml_node common = effect.child("profile_COMMON").child("technique");
+  pugi::xml_node shader;
+  for (const char* name : {"phong", "lambert", "blinn", "constant"})
+    if ((shader = common.child(name))) break;
+  if (!shader) return;
+  if (pugi::xml_node diffuse = shader.child("diffuse")) {
+    if (pugi::xml_node color = diffuse.child("color")) m.albedo = doc_.color(color);
+    else if (diffuse.child("texture"))
+      doc_.warn(diffuse, "a texture is not modelled; rendered with the diffuse colour 0.5 grey");
+  }
+  if (m.albedo.x < 0 || m.albedo.y < 0 || m.albedo.z < 0) doc_.fail(effect, "negative diffuse colour");
+  if (max_component(m.albedo) > 1.0f) doc_.warn(effect, "diffuse albedo above 1 reflects more light than it receives");
+  for (pugi::xml_node p : shader.children()) {
+    std::string_view kind = p.name();
+    if (kind == "diffuse" || kind == "index_of_refraction") continue;  // an opaque surface's ior changes nothing
+    if (kind == "emission" && blender_) {
+      if (pugi::xml_node color = p.child("color")) {
+        m.emission = doc_.color(color);
+        if (m.emission.x < 0 || m.emission.y < 0 || m.emission.z < 0) doc_.fail(color, "negative emission colour");
+        if (m.is_emitter())
+          doc_.warn(p,
+                    "emission colour read as radiance at strength 1: Blender's exporter drops the emission "
+                    "strength (docs/blender_scenes.md)");
+      } else if (p.child("texture")) {
+        doc_.warn(p, "an emission texture is not modelled; no emission");
+      }
+      continue;
+    }
+    if (kind == "shininess" || kind == "transparency" || kind == "reflectivity") continue;  // named with their colour
+    bool matters = kind == "transparent" ? true : !black_or_absent(doc_, p);
+    if (kind == "reflective" && doc_.scalar(shader.child("reflectivity").child("float"), 1.0f) == 0.0f) matters = false;
+    if (matters)
+      doc_.warn(p, "<" + excerpt(shader.name()) + "> property not modelled (" +
+                       (kind == "emission" ? "the course reads CGL emission only" : "rendered as Lambertian diffuse") +
+                       ")");
+  }
+}
+
+std::string MaterialTable::describe(uint32_t index) const {
+  const Material& m = scene_.materials[index];
+  auto it = names_.find(index);
+  std::string name = it == names_.end() ? "(default grey)" : it->second;
+  char b[160];
+  static const char* kKinds[] = {"diffuse", "mirror", "glass", "refraction", "microfacet"};
+  std::snprintf(b, sizeof b, " %s (%g, %g, %g)", kKinds[static_cast<uint32_t>(m.kind)], m.albedo.x, m.albedo.y,
+                m.albedo.z);
+  std::string out = name + b;
+  if (m.is_emitter()) {
+    std::snprintf(b, sizeof b, ", emission (%g, %g, %g)", m.emission.x, m.emission.y, m.emission.z);
+    out += b;
+  }
+  return out;
+}
+
 uint32_t MaterialTable::fallback() {
   if (fallback_ < 0) {
     fallback_ = static_cast<int32_t>(scene_.materials.size());
@@ -91,6 +165,8 @@ uint32_t MaterialTable::get(pugi::xml_node material) {
   uint32_t index = static_cast<uint32_t>(scene_.materials.size());
   scene_.materials.push_back(read(material));
   cache_.emplace(material.internal_object(), index);
+  const char* name = material.attribute("name") ? material.attribute("name").value() : material.attribute("id").value();
+  names_.emplace(index, excerpt(name));
   return index;
 }
 
@@ -101,16 +177,7 @@ Material MaterialTable::read(pugi::xml_node material) {
   pugi::xml_node effect = doc_.resolve(instance, instance.attribute("url").value());
 
   Material m;
-  pugi::xml_node common = effect.child("profile_COMMON").child("technique");
-  for (const char* shader : {"phong", "lambert", "blinn", "constant"}) {
-    pugi::xml_node color = common.child(shader).child("diffuse").child("color");
-    if (color) {
-      m.albedo = doc_.color(color);
-      break;
-    }
-  }
-  if (m.albedo.x < 0 || m.albedo.y < 0 || m.albedo.z < 0) doc_.fail(effect, "negative diffuse colour");
-  if (max_component(m.albedo) > 1.0f) doc_.warn(effect, "diffuse albedo above 1 reflects more light than it receives");
+  read_common(effect, m);
 
   if (pugi::xml_node cgl = cgl_technique(effect)) {
     if (pugi::xml_node emission = cgl.child("emission")) {

@@ -55,6 +55,8 @@ std::vector<float3> read_positions(ColladaDocument& doc, pugi::xml_node source) 
 struct PrimitiveLayout {
   uint64_t stride = 0;         // indices per corner
   uint64_t vertex_offset = 0;  // where the VERTEX index sits in a corner
+  int64_t normal_offset = -1;  // where the NORMAL index sits, if any
+  pugi::xml_node normal_input;
 };
 
 PrimitiveLayout read_layout(ColladaDocument& doc, pugi::xml_node prim) {
@@ -66,6 +68,9 @@ PrimitiveLayout read_layout(ColladaDocument& doc, pugi::xml_node prim) {
     if (std::string_view(input.attribute("semantic").value()) == "VERTEX") {
       layout.vertex_offset = offset;
       has_vertex = true;
+    } else if (std::string_view(input.attribute("semantic").value()) == "NORMAL" && !layout.normal_input) {
+      layout.normal_offset = static_cast<int64_t>(offset);
+      layout.normal_input = input;
     }
   }
   if (!has_vertex) doc.fail(prim, "has no <input semantic=\"VERTEX\">");
@@ -73,8 +78,9 @@ PrimitiveLayout read_layout(ColladaDocument& doc, pugi::xml_node prim) {
 }
 
 void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vector<uint32_t>& sizes, uint32_t symbol,
-                     size_t vertex_count, MeshData& mesh) {
+                     size_t vertex_count, bool read_normals, MeshData& mesh) {
   PrimitiveLayout layout = read_layout(doc, prim);
+  if (!read_normals) layout.normal_input = {};
   pugi::xml_node p = prim.child("p");
   if (!p) doc.fail(prim, "has no <p> index list");
   std::vector<uint32_t> idx = doc.indices(p, UINT32_MAX, "index");
@@ -91,6 +97,27 @@ void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vecto
           p, "vertex index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) + " positions)");
     return v;
   };
+  // Normals: kept while every primitive so far has them (one source for the mesh).
+  bool normals = layout.normal_input && mesh.normal_triangles.size() == mesh.triangles.size();
+  if (normals) {
+    if (mesh.normals.empty() && mesh.triangles.empty()) {
+      mesh.normals =
+          read_positions(doc, doc.resolve(layout.normal_input, layout.normal_input.attribute("source").value()));
+    } else if (mesh.normals.empty()) {
+      normals = false;
+    }
+  }
+  if (!normals) {
+    mesh.normals.clear();
+    mesh.normal_triangles.clear();
+  }
+  auto normal = [&](uint64_t corner) {
+    uint32_t v = idx[corner * layout.stride + static_cast<uint64_t>(layout.normal_offset)];
+    if (v >= mesh.normals.size())
+      doc.fail(p, "normal index " + std::to_string(v) + " is out of range (" + std::to_string(mesh.normals.size()) +
+                      " normals)");
+    return v;
+  };
   uint64_t first = 0;
   for (uint32_t n : sizes) {
     if (n < 3) doc.fail(prim, "has a polygon with " + std::to_string(n) + " vertices");
@@ -98,6 +125,7 @@ void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vecto
     for (uint32_t k = 1; k + 1 < n; ++k) {
       mesh.triangles.push_back({v0, vertex(first + k), vertex(first + k + 1)});
       mesh.triangle_symbol.push_back(symbol);
+      if (normals) mesh.normal_triangles.push_back({normal(first), normal(first + k), normal(first + k + 1)});
     }
     first += n;
   }
@@ -105,7 +133,7 @@ void append_polygons(ColladaDocument& doc, pugi::xml_node prim, const std::vecto
 
 }  // namespace
 
-MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node) {
+MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node, bool normals) {
   MeshData mesh;
   pugi::xml_node vertices = mesh_node.child("vertices");
   if (!vertices) doc.fail(mesh_node, "has no <vertices>");
@@ -119,6 +147,8 @@ MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node) {
     if (!is_triangles && !is_polylist) {
       if (kind == "polygons" || kind == "trifans" || kind == "tristrips" || kind == "lines" || kind == "linestrips")
         doc.warn(prim, "primitive type not supported; skipped");
+      else if (kind != "source" && kind != "vertices" && kind != "extra")
+        doc.warn(prim, "mesh element not read; skipped");
       continue;
     }
     uint32_t symbol = static_cast<uint32_t>(mesh.symbols.size());
@@ -142,20 +172,20 @@ MeshData read_mesh(ColladaDocument& doc, pugi::xml_node mesh_node) {
         doc.fail(vcount,
                  "lists " + std::to_string(sizes.size()) + " polygons but count=\"" + std::to_string(count) + "\"");
     }
-    append_polygons(doc, prim, sizes, symbol, mesh.positions.size(), mesh);
+    append_polygons(doc, prim, sizes, symbol, mesh.positions.size(), normals, mesh);
   }
   return mesh;
 }
 
 const MeshData& MeshCache::get(pugi::xml_node mesh) {
   auto it = meshes_.find(mesh.internal_object());
-  if (it == meshes_.end()) it = meshes_.emplace(mesh.internal_object(), read_mesh(doc_, mesh)).first;
+  if (it == meshes_.end()) it = meshes_.emplace(mesh.internal_object(), read_mesh(doc_, mesh, normals_)).first;
   return it->second;
 }
 
 std::optional<float> read_sphere_radius(ColladaDocument& doc, pugi::xml_node geometry) {
   for (pugi::xml_node tech : geometry.child("extra").children("technique")) {
-    if (std::string_view(tech.attribute("profile").value()) != "CGL") continue;
+    if (!ColladaDocument::is_course_profile(tech.attribute("profile").value())) continue;
     pugi::xml_node sphere = tech.child("sphere");
     if (!sphere) continue;
     pugi::xml_node radius = sphere.child("radius");

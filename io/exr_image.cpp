@@ -96,9 +96,9 @@ RgbImage read_exr(const std::string& path) {
   return img;
 }
 
-void write_exr(const std::string& path, const RgbImage& image) {
+std::string encode_exr(const RgbImage& image, bool half, const std::string& label) {
   if (image.width <= 0 || image.height <= 0 || image.texels.size() != size_t(image.width) * image.height)
-    throw InputError(path + ": cannot write an EXR of " + std::to_string(image.width) + " x " +
+    throw InputError(label + ": cannot write an EXR of " + std::to_string(image.width) + " x " +
                      std::to_string(image.height) + " with " + std::to_string(image.texels.size()) + " texels");
   // Channel planes in the (alphabetical) order EXR readers expect: B, G, R.
   const size_t n = image.texels.size();
@@ -115,7 +115,8 @@ void write_exr(const std::string& path, const RgbImage& image) {
   std::strcpy(channels[1].name, "G");
   std::strcpy(channels[2].name, "R");
   int pixel_types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
-  int requested[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+  const int stored = half ? TINYEXR_PIXELTYPE_HALF : TINYEXR_PIXELTYPE_FLOAT;
+  int requested[3] = {stored, stored, stored};
 
   EXRHeader header;
   InitEXRHeader(&header);
@@ -136,8 +137,12 @@ void write_exr(const std::string& path, const RgbImage& image) {
   const char* err = nullptr;
   const size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &err);
   std::unique_ptr<unsigned char, FreeDeleter> owned(memory);
-  if (size == 0 || memory == nullptr) throw InputError(path + ": cannot encode the EXR image" + take_message(err));
-  write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(memory), size));
+  if (size == 0 || memory == nullptr) throw InputError(label + ": cannot encode the EXR image" + take_message(err));
+  return std::string(reinterpret_cast<const char*>(memory), size);
+}
+
+void write_exr(const std::string& path, const RgbImage& image) {
+  write_file_atomically(path, encode_exr(image, false, path));
 }
 
 }  // namespace pt

@@ -31,6 +31,12 @@ inline constexpr uint64_t kMaxExrTexels = uint64_t(1) << 28;
 /// "texel (x, y) ... is not finite" / "is negative").
 RgbImage read_exr(const std::string& path);
 
+/// The bytes of `image` as an RGB EXR of 32-bit float (or, `half`, 16-bit
+/// half) channels, ZIP-compressed unless smaller than 16 x 16; `label` names
+/// the image in errors. Throws InputError when the image is empty or its
+/// texel count does not match.
+std::string encode_exr(const RgbImage& image, bool half, const std::string& label);
+
 /// Writes `image` as a float32 RGB EXR (ZIP-compressed unless smaller than
 /// 16 x 16), atomically. Values are written as they are (NaN included, so
 /// tests can make hostile files). Throws InputError when the image is empty,

@@ -12,6 +12,7 @@
 #include <stb/stb_image_write.h>
 
 #include "atomic_file.h"
+#include "exr_image.h"
 #include "read_file.h"
 #include "scene_error.h"
 
@@ -20,7 +21,7 @@ namespace pt {
 ImageFormat image_format_for(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".pfm" ? ImageFormat::kPfm : ImageFormat::kPng;
+  return ext == ".pfm" ? ImageFormat::kPfm : ext == ".exr" ? ImageFormat::kExr : ImageFormat::kPng;
 }
 
 std::filesystem::path rate_image_path(const std::filesystem::path& output) {
@@ -60,16 +61,18 @@ std::string encode_pfm(int width, int height, const std::vector<float3>& rgb) {
   return out;
 }
 
-std::string encode_image(const std::filesystem::path& path, const Film& film, PngQuantization q) {
+std::string encode_image(const std::filesystem::path& path, const Film& film, PngQuantization q, ExrPixel exr) {
   if (image_format_for(path) == ImageFormat::kPfm) return encode_pfm(film.width, film.height, film.radiance);
+  if (image_format_for(path) == ImageFormat::kExr)
+    return encode_exr(RgbImage{film.width, film.height, film.radiance}, exr == ExrPixel::kHalf, path.string());
   std::vector<uint8_t> rgb(film.radiance.size() * 3);
   for (size_t i = 0; i < film.radiance.size(); ++i)
     for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = encode_channel(film.radiance[i][c], q);
   return encode_png_rgb8(film.width, film.height, rgb);
 }
 
-void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q) {
-  write_file_atomically(path, encode_image(path, film, q));
+void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q, ExrPixel exr) {
+  write_file_atomically(path, encode_image(path, film, q, exr));
 }
 
 void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]) {

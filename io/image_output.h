@@ -1,7 +1,8 @@
 // Writes a Film: PNG with the course renderer's encoding
 // (clamp((L * sqrt 2)^(1/2.2)) to 8 bits, top row first), PFM (linear float
-// RGB, for error measurement) chosen by the file extension, and the
-// sample-rate image. Every write is atomic.
+// RGB, for error measurement) or OpenEXR (linear RGB, float or half: for
+// Blender's compositor and other HDR tools) chosen by the file extension, and
+// the sample-rate image. Every write is atomic.
 #pragma once
 
 #include <cstdint>
@@ -13,9 +14,12 @@
 
 namespace pt {
 
-enum class ImageFormat { kPng, kPfm };
+enum class ImageFormat { kPng, kPfm, kExr };
 
-/// By extension: ".pfm" -> PFM, anything else -> PNG.
+/// The pixel type of an OpenEXR output: 32-bit float or 16-bit half.
+enum class ExrPixel { kFloat, kHalf };
+
+/// By extension: ".pfm" -> PFM, ".exr" -> OpenEXR, anything else -> PNG.
 ImageFormat image_format_for(const std::filesystem::path& path);
 
 /// out.png -> out_rate.png (the sample-rate image beside an output).
@@ -33,10 +37,12 @@ uint8_t encode_channel(float linear, PngQuantization q = PngQuantization::kNeare
 /// blue (0) to green (0.5) to red (1).
 void sample_rate_rgb8(uint32_t samples, uint32_t max_samples, uint8_t rgb[3]);
 
-void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q = PngQuantization::kNearest);
+void write_image(const std::filesystem::path& path, const Film& film, PngQuantization q = PngQuantization::kNearest,
+                 ExrPixel exr = ExrPixel::kFloat);
 void write_sample_rate_image(const std::filesystem::path& path, const Film& film);
 /// The bytes write_image and write_sample_rate_image write (the format by `path`'s extension).
-std::string encode_image(const std::filesystem::path& path, const Film& film, PngQuantization q);
+std::string encode_image(const std::filesystem::path& path, const Film& film, PngQuantization q,
+                         ExrPixel exr = ExrPixel::kFloat);
 std::string encode_sample_rate_image(const Film& film);
 /// Each pixel's variance of its mean illuminance as a grey PFM (for references).
 void write_variance_image(const std::filesystem::path& path, const Film& film);

@@ -13,6 +13,7 @@ struct LoadLimits {
   uint64_t max_instances = uint64_t(1) << 20;  ///< nodes and instance_* elements reached
   uint64_t max_vertices = uint64_t(1) << 24;
   uint64_t max_primitives = uint64_t(1) << 24;  ///< triangles + spheres
+  uint64_t max_lights = uint64_t(1) << 12;      ///< every light costs each shading point a sample
   int max_node_depth = 256;
 };
 

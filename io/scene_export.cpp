@@ -59,9 +59,17 @@ std::string scene_to_json(const Scene& s, const Camera& c, int width, int height
                     {"dim_x", vec(l.dim_x)},
                     {"dim_y", vec(l.dim_y)},
                     {"direction", vec(l.direction)},
-                    {"radiance", vec(l.radiance)}});
+                    {"radiance", vec(l.radiance)},
+                    {"shape", l.shape == AreaShape::kEllipse ? "ellipse" : "parallelogram"}});
   for (const PointLight& l : s.point_lights)
-    points.push_back({{"position", vec(l.position)}, {"radiance", vec(l.radiance)}});
+    points.push_back({{"position", vec(l.position)},
+                      {"radiance", vec(l.radiance)},
+                      {"inverse_square", (l.flags & PointLight::kInverseSquare) != 0},
+                      {"radius", l.radius},
+                      {"spot", (l.flags & PointLight::kSpot) != 0},
+                      {"spot_dir", vec(l.spot_dir)},
+                      {"spot_cos_half", l.spot_cos_half},
+                      {"spot_smooth", l.spot_smooth}});
   for (const DirectionalLight& l : s.directional_lights)
     directional.push_back({{"to_light", vec(l.to_light)}, {"radiance", vec(l.radiance)}});
   json doc = {

@@ -1,5 +1,5 @@
 // The scene as this renderer reads it, written as JSON for other renderers
-// (scripts/peers/ builds it in Blender to render with Cycles): triangles with
+// (scripts/studies/peers/ builds it in Blender to render with Cycles): triangles with
 // their smooth normals and materials, spheres, lights and the camera resolved
 // for the output size, in world space (Y up). Nothing is re-derived from the
 // .dae by the reader, so both renderers see the same scene.

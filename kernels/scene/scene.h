@@ -71,11 +71,18 @@ struct Sphere {
 static_assert(sizeof(Sphere) == 20);
 
 /// What the file says about the camera; resolved into a Camera for a given
-/// output size by resolve_camera(). See docs/cs184_compatibility.md.
+/// output size by resolve_camera(). The course's rule (docs/cs184_compatibility.md)
+/// places it by view_dir and widens hfov/vfov to the image; a Blender 2.80+
+/// export's camera (`placed`) sits where its node puts it, and its hfov_deg is
+/// the sensor width's angle, which Blender's Auto sensor fit gives the
+/// image's longer side (docs/blender_scenes.md).
 struct CameraDescription {
   float hfov_deg = 50.0f, vfov_deg = 35.0f;
   float near_clip = 0.01f, far_clip = 100.0f;
   float3 view_dir{0.0f, 0.0f, 1.0f};  ///< camera sits at centre + distance * view_dir
+  bool placed = false;                ///< Blender's camera: the fields below
+  float3 position{0.0f};
+  float3 screen_x{1.0f, 0.0f, 0.0f}, screen_y{0.0f, 1.0f, 0.0f}, to_camera{0.0f, 0.0f, 1.0f};  ///< unit
 };
 
 struct Scene {
@@ -131,8 +138,12 @@ void set_environment(Scene& s, std::shared_ptr<const EnvironmentMap> map);
 /// Recomputes bounds from triangles and spheres.
 BBox compute_scene_bounds(const Scene& s);
 
-/// Appends the two triangles (and four vertices) that make area light `index`
-/// visible to rays, with a one-sided emitting material.
+/// Triangles that stand for an elliptical area light (a fan around its centre).
+inline constexpr uint32_t kEllipseSegments = 64;
+
+/// Appends the triangles that make area light `index` visible to rays (two
+/// for a parallelogram, kEllipseSegments for an ellipse), with a one-sided
+/// emitting material.
 void add_area_light_geometry(Scene& s, uint32_t index);
 
 /// Smooth vertex normals as the course renderer computes them: the sum of the

@@ -101,6 +101,22 @@ inline DeltaLightSampleT<T> sample_point_light(const PointLight& l, const Vec3T<
   return {{d.x * inv, d.y * inv, d.z * inv}, dist, dist > T(0.0f)};
 }
 
+/// Cycles' soft point light: a point uniform on the disk of the light's radius
+/// centred at its position and facing p, taken as the light's position for
+/// that sample (Cycles weighs it as I / dist^2, its cosine taken as 1).
+template <class T>
+inline DeltaLightSampleT<T> sample_soft_point_light(const PointLight& l, const Vec3T<T>& p, T u1, T u2) {
+  Vec3T<T> n{p.x - T(l.position.x), p.y - T(l.position.y), p.z - T(l.position.z)};
+  T inv_len = T(1.0f) / lane::sqrt(dot3(n, n));
+  T r = T(l.radius) * lane::sqrt(u1), s, c;
+  lane::sincos_2pi(u2, s, c);
+  Vec3T<T> o = to_world(n.x * inv_len, n.y * inv_len, n.z * inv_len, r * c, r * s, T(0.0f));
+  Vec3T<T> d{T(l.position.x) + o.x - p.x, T(l.position.y) + o.y - p.y, T(l.position.z) + o.z - p.z};
+  T dist = lane::sqrt(dot3(d, d));
+  T inv = T(1.0f) / dist;
+  return {{d.x * inv, d.y * inv, d.z * inv}, dist, dist > T(0.0f) && dist < T(kInfinity)};
+}
+
 /// The lanes whose point p may receive light from the area light: false only
 /// where every point q of the parallelogram lies behind its emitting side
 /// ((q - p) . direction >= 0 there, so that no sample faces p) or below the
@@ -189,8 +205,22 @@ void sample_light_sources(const Scene& scene, const RenderSettings& rs, const Sh
     });
   }
   for (const PointLight& light : scene.point_lights) {
-    DeltaLightSampleT<T> ls = sample_point_light<T>(light, sp.p);
-    emit(ls.ok, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance, dot3(sp.ns, ls.wi));
+    if (light.flags == 0) {  // the course's point light: no falloff
+      DeltaLightSampleT<T> ls = sample_point_light<T>(light, sp.p);
+      emit(ls.ok, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance, dot3(sp.ns, ls.wi));
+      continue;
+    }
+    DeltaLightSampleT<T> ls;
+    if (light.radius > 0.0f) {  // one sample of the disk facing p
+      T u1, u2;
+      ps.get2d(vertex, dims::light_dim(k++), u1, u2);
+      ls = sample_soft_point_light<T>(light, sp.p, u1, u2);
+    } else {
+      ls = sample_point_light<T>(light, sp.p);
+    }
+    T factor = dot3(sp.ns, ls.wi) / (ls.dist * ls.dist);
+    if (light.flags & PointLight::kSpot) factor = factor * spot_factor(light, Vec3T<T>{-ls.wi.x, -ls.wi.y, -ls.wi.z});
+    emit(ls.ok, ls.wi, ls.dist * T(1.0f - kShadowRayShrink), light.radiance, factor);
   }
   for (const DirectionalLight& light : scene.directional_lights) {
     Vec3T<T> wi{T(light.to_light.x), T(light.to_light.y), T(light.to_light.z)};

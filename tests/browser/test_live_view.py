@@ -260,7 +260,10 @@ def main():
         code, out, err = server.stop()
         shutil.rmtree(workdir, ignore_errors=True)
     assert code == 0 and "Live view stopped" in out, (code, out, err)
-    assert err == "", "the server logged: " + err
+    # The scene's load warnings (what the loader does not model, e.g. CBbunny's phong <specular>) are
+    # printed before the server starts; anything else on stderr is a failure.
+    logged = [line for line in err.splitlines() if not line.startswith("warning: " + scene + ":")]
+    assert not logged, "the server logged: " + "\n".join(logged)
     print("passed in %.1f s" % (time.time() - start))
 
 

@@ -325,9 +325,74 @@ std::vector<HostileFile> warning_cases() {
   };
 }
 
+/// A Blender 3.4 export: the triangle and light "l" with the `blender` technique `technique`, placed `copies` times.
+std::string blender_light_file(const std::string& technique, int copies = 1) {
+  std::string nodes = "<node><instance_geometry url=\"#tri\"/></node>";
+  for (int i = 0; i < copies; ++i) nodes += "<node><instance_light url=\"#l\"/></node>";
+  std::string file = collada(kTriangleGeometry +
+                                 "<library_lights><light id=\"l\"><technique_common><point><color>10 10 10</color>"
+                                 "</point></technique_common><extra><technique profile=\"blender\">" +
+                                 technique + "</technique></extra></light></library_lights>",
+                             nodes, "Z_UP");
+  return file.replace(file.find("<asset>"), 7,
+                      "<asset><contributor><authoring_tool>Blender 3.4.1</authoring_tool></contributor>");
+}
+
+std::vector<HostileFile> blender_cases() {
+  const std::string point = "<type>0</type><energy>10</energy>";
+  return {
+      {"blender_negative_energy", [] { return blender_light_file("<type>0</type><energy>-5</energy>"); },
+       Outcome::kError, "<energy>", "energy -5 is outside [0, 1e+12]"},
+      {"blender_nan_energy", [] { return blender_light_file("<type>0</type><energy>nan</energy>"); }, Outcome::kError,
+       "<energy>", "non-finite number \"nan\""},
+      {"blender_absurd_energy", [] { return blender_light_file("<type>1</type><energy>1e30</energy>"); },
+       Outcome::kError, "<energy>", "is outside [0, 1e+12]"},
+      {"blender_unknown_light_type", [] { return blender_light_file("<type>7</type><energy>10</energy>"); },
+       Outcome::kError, "<type>", "unknown Blender light type 7"},
+      {"blender_light_without_type", [] { return blender_light_file("<energy>10</energy>"); }, Outcome::kError,
+       "<technique>", "has no <type>"},
+      {"blender_absurd_area_size",
+       [] { return blender_light_file("<type>4</type><energy>10</energy><area_size>1e30</area_size>"); },
+       Outcome::kError, "<area_size>", "area_size 1e+30 is outside [0, 1e+06]"},
+      {"blender_zero_area_size",
+       [] { return blender_light_file("<type>4</type><energy>10</energy><area_size>0</area_size>"); }, Outcome::kError,
+       "<technique>", "zero area"},
+      {"blender_unknown_area_shape",
+       [] { return blender_light_file("<type>4</type><energy>10</energy><area_shape>3</area_shape>"); },
+       Outcome::kError, "<area_shape>", "unknown area shape 3"},
+      {"blender_negative_radius", [=] { return blender_light_file(point + "<area_size>-1</area_size>"); },
+       Outcome::kError, "<area_size>", "area_size -1 is outside"},
+      {"blender_spot_cone_of_500_degrees",
+       [] { return blender_light_file("<type>2</type><energy>10</energy><spotsize>500</spotsize>"); }, Outcome::kError,
+       "<spotsize>", "spotsize 500 is outside [0, 180]"},
+      {"blender_spot_blend_nan",
+       [] { return blender_light_file("<type>2</type><energy>10</energy><spotblend>nan</spotblend>"); },
+       Outcome::kError, "<spotblend>", "non-finite number"},
+      {"blender_negative_colour", [=] { return blender_light_file(point + "<red>-1</red>"); }, Outcome::kError, "<red>",
+       "red -1 is outside"},
+      {"blender_5000_lights", [=] { return blender_light_file(point, 5000); }, Outcome::kError, "<node>",
+       "the scene expands to more than 4096 lights"},
+      {"ambiguous_node_reference",
+       [] {
+         return collada(kTriangleGeometry +
+                            "<library_nodes><node id=\"twin\"><instance_geometry url=\"#tri\"/>"
+                            "</node><node id=\"twin\"/></library_nodes>",
+                        "<node><instance_node url=\"#twin\"/></node>");
+       },
+       Outcome::kError, "<instance_node url=\"#twin\">", "which several <node> elements carry"},
+      {"duplicate_unreferenced_node_ids",
+       [] {
+         return collada(kTriangleGeometry + light_library("<ambient><color>1 1 1</color></ambient>"),
+                        "<node id=\"Sphere\"><instance_geometry url=\"#tri\"/></node><node id=\"Sphere\">"
+                        "<instance_light url=\"#l\"/></node>");
+       },
+       Outcome::kWarning, "", "id(s) carried by more than one <node> (\"Sphere\", defined on lines"},
+  };
+}
+
 std::vector<HostileFile> all_cases() {
   std::vector<HostileFile> all;
-  for (auto group : {structure_cases, count_and_index_cases, value_cases, warning_cases})
+  for (auto group : {structure_cases, count_and_index_cases, value_cases, warning_cases, blender_cases})
     for (HostileFile& f : group()) all.push_back(std::move(f));
   return all;
 }

@@ -56,8 +56,8 @@ TEST(MemoryReport, CountsTheSceneArraysExactly) {
   EXPECT_EQ(line(r, "scene: triangle indices").bytes, 4u * 12);
   EXPECT_EQ(line(r, "scene: triangle materials").bytes, 4u * 4);
   EXPECT_EQ(line(r, "scene: materials").bytes, 2u * sizeof(Material));
-  EXPECT_EQ(line(r, "scene: lights").bytes, 64u);
-  EXPECT_EQ(r.total(), 8u * 24 + 4u * 16 + 64 + 2u * sizeof(Material));
+  EXPECT_EQ(line(r, "scene: lights").bytes, sizeof(AreaLight));
+  EXPECT_EQ(r.total(), 8u * 24 + 4u * 16 + sizeof(AreaLight) + 2u * sizeof(Material));
 }
 
 /// A wavefront render of the floor scene at w x h and its report.

@@ -12,8 +12,10 @@ bool unit(float3 n) { return is_finite(n) && std::fabs(length(n) - 1.0f) < 1e-3f
 std::string geometry_violation(const Scene& s) {
   if (s.normals.size() != s.positions.size()) return "normals and positions differ in count";
   if (s.triangle_material.size() != s.triangles.size()) return "triangle_material and triangles differ in count";
-  if (s.mesh_triangle_count + 2 * s.area_lights.size() != s.triangles.size())
-    return "triangle count is not mesh triangles + 2 per area light";
+  size_t light_triangles = 0;
+  for (const AreaLight& l : s.area_lights) light_triangles += l.shape == AreaShape::kEllipse ? kEllipseSegments : 2;
+  if (s.mesh_triangle_count + light_triangles != s.triangles.size())
+    return "triangle count is not mesh triangles + 2 per parallelogram and kEllipseSegments per elliptical light";
   for (const float3& p : s.positions)
     if (!is_finite(p)) return "non-finite position";
   for (const float3& n : s.normals)
@@ -42,8 +44,13 @@ std::string light_violation(const Scene& s) {
     if (!colour_ok(l.radiance) || !(l.area > 0.0f) || !std::isfinite(l.area) || !unit(l.direction) ||
         !is_finite(l.position) || !is_finite(l.dim_x) || !is_finite(l.dim_y))
       return "degenerate area light";
-  for (const PointLight& l : s.point_lights)
+  for (const PointLight& l : s.point_lights) {
     if (!colour_ok(l.radiance) || !is_finite(l.position)) return "bad point light";
+    if (!(l.radius >= 0.0f) || !std::isfinite(l.radius)) return "bad point light radius";
+    if ((l.flags & PointLight::kSpot) && (!unit(l.spot_dir) || !(l.spot_cos_half >= -1.0f && l.spot_cos_half < 1.0f) ||
+                                          !(l.spot_smooth >= 0.0f) || !std::isfinite(l.spot_smooth)))
+      return "bad spot cone";
+  }
   for (const DirectionalLight& l : s.directional_lights)
     if (!colour_ok(l.radiance) || !unit(l.to_light)) return "bad directional light";
   if (s.sky && !colour_ok(s.sky->radiance)) return "bad sky";
@@ -51,6 +58,8 @@ std::string light_violation(const Scene& s) {
   if (!(c.hfov_deg > 0 && c.hfov_deg < 180 && c.vfov_deg > 0 && c.vfov_deg < 180)) return "bad field of view";
   if (!(c.near_clip >= 0 && c.far_clip > c.near_clip) || !std::isfinite(c.far_clip)) return "bad clip range";
   if (!unit(c.view_dir)) return "camera view direction is not unit length";
+  if (c.placed && (!is_finite(c.position) || !unit(c.screen_x) || !unit(c.screen_y) || !unit(c.to_camera)))
+    return "placed camera is not finite or its basis not unit";
   return {};
 }
 

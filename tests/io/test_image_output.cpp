@@ -2,7 +2,8 @@
 // clamp((L sqrt 2)^(1/2.2)) on known values and against a double-precision
 // evaluation; PNGs and sample-rate images read back with an independent
 // decoder (stb_image), rows top first; PFM written and read back bit for bit,
-// bottom row first in the file; the sample-rate colour map's endpoints.
+// bottom row first in the file; OpenEXR read back (float bit for bit, half to
+// half precision); the sample-rate colour map's endpoints.
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #include "support/run_process.h"
+#include "io/exr_image.h"
 #include "io/image_output.h"
 #include "io/scene_error.h"
 #include "support/png_decode.h"
@@ -124,7 +126,29 @@ TEST(SampleRateImage, ColourMapEndpointsAndMidpoints) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(img.pixels[x * 3 + c], expected[x][c]) << "pixel " << x << " channel " << c;
 }
 
+// -f out.exr: OpenEXR that an EXR reader (tinyexr's loader, as Blender's
+// compositor would read it) returns as the film, rows top first: float
+// channels bit for bit, half channels to half precision (11 bits).
+TEST(ExrOutput, FloatRoundTripsBitForBitAndHalfToHalfPrecision) {
+  ScratchDir dir;
+  Film film = gradient_film(20, 17);           // above 16 x 16: the compressed path too
+  for (float3& c : film.radiance) c = abs(c);  // radiance (the reader refuses negative texels)
+  film.radiance[film.index(3, 0)] = {1000.0f, 0.001f, 0.0f};
+  write_image(dir / "out.exr", film);
+  write_image(dir / "half.EXR", film, PngQuantization::kNearest, ExrPixel::kHalf);
+  const RgbImage full = read_exr((dir / "out.exr").string()), half = read_exr((dir / "half.EXR").string());
+  ASSERT_EQ(full.width, 20);
+  ASSERT_EQ(full.height, 17);
+  ASSERT_EQ(half.texels.size(), film.radiance.size());
+  EXPECT_EQ(std::memcmp(full.texels.data(), film.radiance.data(), full.texels.size() * sizeof(float3)), 0);
+  for (size_t i = 0; i < film.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(half.texels[i][c], film.radiance[i][c], std::fabs(film.radiance[i][c]) * 0x1p-11f + 1e-7f) << i;
+  EXPECT_LT(std::filesystem::file_size(dir / "half.EXR"), std::filesystem::file_size(dir / "out.exr"));
+}
+
 TEST(OutputPaths, FormatByExtensionAndRateImageName) {
+  EXPECT_EQ(image_format_for("a/b.exr"), ImageFormat::kExr);
   EXPECT_EQ(image_format_for("a/b.pfm"), ImageFormat::kPfm);
   EXPECT_EQ(image_format_for("b.PfM"), ImageFormat::kPfm);
   EXPECT_EQ(image_format_for("b.png"), ImageFormat::kPng);

@@ -33,6 +33,7 @@ bool shared_scenes_available() {
 }
 
 std::filesystem::path project_scene(const std::string& name) { return std::filesystem::path(PT_PROJECT_SCENES) / name; }
+std::filesystem::path test_data(const std::string& name) { return std::filesystem::path(PT_TEST_DATA) / name; }
 
 std::string file_bytes(const std::filesystem::path& path) {
   return read_regular_file(path, "test file", uint64_t(1) << 32);

@@ -32,6 +32,8 @@ bool ci_requires_shared_data();
 std::string missing_shared_message(const std::filesystem::path& folder);
 /// Path of one of this project's scenes.
 std::filesystem::path project_scene(const std::string& name);
+/// Path of a file under tests/data, e.g. test_data("blender/spot_blend.dae").
+std::filesystem::path test_data(const std::string& name);
 
 /// Loads a scene from a COLLADA string (for small hand-written test files).
 LoadResult load_string(const std::string& xml, const std::string& label = "test.dae");

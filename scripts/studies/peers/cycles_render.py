@@ -103,6 +103,10 @@ def unmatched_features(doc):
     if any(m["kind"] == "microfacet" for m in doc["materials"]):
         reasons.append("microfacet conductors: Cycles 3.4's Glossy BSDF has no conductor Fresnel (eta, k) and "
                        "its Beckmann shadowing is separable, not the height-correlated Smith G of this renderer")
+    if any(l.get("inverse_square") for l in doc["point_lights"]) or \
+            any(l.get("shape", "parallelogram") != "parallelogram" for l in doc["area_lights"]):
+        reasons.append("Blender's lights (falloff, radius, spot cone, elliptical area lights): a Blender export is "
+                       "compared with Cycles by scripts/studies/peers/blender_scenes.sh, which renders Blender's own scene")
     if doc["environment_map"]:
         reasons.append("an environment map (-e): its lookup and sampling conventions are not mapped to Cycles")
     if doc["camera"]["lens_radius"] > 0:
