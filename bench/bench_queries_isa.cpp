@@ -34,7 +34,8 @@ bool watertight_intersect(const Bvh4& tree, const SceneBvh4& s, const Ray& ray, 
 bool watertight_occluded(const Bvh4& tree, const SceneBvh4& s, const Ray& ray, TraversalCounters* c) {
   NoCounters none;
   const WatertightScene w{tree, s};
-  return c ? bvh4_queries::occluded<WatertightBlocks>(w, ray, *c) : bvh4_queries::occluded<WatertightBlocks>(w, ray, none);
+  return c ? bvh4_queries::occluded<WatertightBlocks>(w, ray, *c)
+           : bvh4_queries::occluded<WatertightBlocks>(w, ray, none);
 }
 
 }  // namespace

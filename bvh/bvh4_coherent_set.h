@@ -207,15 +207,13 @@ PT_ALWAYS_INLINE uint32_t frustum_admits(const Bvh4Node& node, const CoherentSet
 
 /// The children of `node` that ray `k` of the set enters, by its own test.
 PT_ALWAYS_INLINE uint32_t ray_enters(const Bvh4Node& node, const CoherentSet& s, uint32_t k) {
-  NodeRay r;
-  for (int a = 0; a < 3; ++a) {
-    r.rdir[a] = vfloat4(s.rdir[a][k]);
-    r.org_rdir[a] = vfloat4(s.org_rdir[a][k]);
-    r.near[a] = s.planes.near[a] * uint32_t(sizeof(float[4]));
-    r.far[a] = s.planes.far[a] * uint32_t(sizeof(float[4]));
-  }
+  uint32_t near[3], far[3];
+  s.planes.offsets(near, far);
+  const vfloat4 rdir[3] = {vfloat4(s.rdir[0][k]), vfloat4(s.rdir[1][k]), vfloat4(s.rdir[2][k])};
+  const vfloat4 org_rdir[3] = {vfloat4(s.org_rdir[0][k]), vfloat4(s.org_rdir[1][k]), vfloat4(s.org_rdir[2][k])};
   vfloat4 tnear;
-  return intersect_node(node, r, vfloat4(s.tmin[k]), vfloat4(s.tmax[k]), tnear);
+  return movemask(
+      children_entered(child_planes(node, near, far), rdir, org_rdir, vfloat4(s.tmin[k]), vfloat4(s.tmax[k]), tnear));
 }
 
 /// The rays of `mask` that enter child c of `node`, each by its own test.

@@ -57,8 +57,8 @@ struct LeafHit {
 /// nearer hit shortens h and fills h.hit; returns false. Any hit: whether a
 /// triangle blocks the ray.
 template <bool kAnyHit, class Blocks, class C>
-PT_ALWAYS_INLINE bool leaf_hit(const TriangleBlock4* blocks, uint32_t count,
-                               const typename Blocks::RayConstants& br, const LeafHit& h, C& counters) {
+PT_ALWAYS_INLINE bool leaf_hit(const TriangleBlock4* blocks, uint32_t count, const typename Blocks::RayConstants& br,
+                               const LeafHit& h, C& counters) {
   auto take = [&](const TriangleBlock4& b, const BlockHits& bh) {
     h.tmax = reduce_min(bh.t);
     h.vtmax = vfloat4(h.tmax);

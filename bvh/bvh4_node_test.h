@@ -32,12 +32,16 @@ struct NodeRay {
 
   static constexpr float kMinDir = 1e-18f;
 
+  /// 1 / d, |d| < kMinDir clamped to +-kMinDir first.
+  PT_ALWAYS_INLINE static float reciprocal(float d) {
+    const float safe = std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d;
+    return 1.0f / safe;
+  }
+
   NodeRay() = default;
   PT_ALWAYS_INLINE explicit NodeRay(const Ray& r) {
     for (int a = 0; a < 3; ++a) {
-      float d = r.dir[a];
-      float safe = std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d;
-      float inv = 1.0f / safe;
+      const float inv = reciprocal(r.dir[a]);
       rdir[a] = vfloat4(inv);
       org_rdir[a] = vfloat4(r.org[a] * inv);
       uint32_t lower = uint32_t(2 * a * sizeof(float[4])), upper = lower + uint32_t(sizeof(float[4]));
@@ -47,21 +51,68 @@ struct NodeRay {
   }
 };
 
+/// The four children's near and far planes of each axis, for rays whose
+/// near and far planes lie at byte offsets near[a] and far[a] of the node
+/// (NodeRay's).
+struct ChildPlanes {
+  vfloat4 near[3], far[3];
+};
+PT_ALWAYS_INLINE ChildPlanes child_planes(const Bvh4Node& node, const uint32_t (&near)[3], const uint32_t (&far)[3]) {
+  const char* base = reinterpret_cast<const char*>(&node);
+  auto plane = [base](uint32_t offset) { return vfloat4::load_aligned(reinterpret_cast<const float*>(base + offset)); };
+  return {{plane(near[0]), plane(near[1]), plane(near[2])}, {plane(far[0]), plane(far[1]), plane(far[2])}};
+}
+
+/// Slab test of the four children whose planes are `p` against the ray of
+/// constants rdir and org_rdir (NodeRay's) over [tmin, tmax]: the children
+/// it enters, and their entry distances in `tnear`.
+PT_ALWAYS_INLINE vbool4 children_entered(const ChildPlanes& p, const vfloat4 (&rdir)[3], const vfloat4 (&org_rdir)[3],
+                                         const vfloat4& tmin, const vfloat4& tmax, vfloat4& tnear) {
+  const vfloat4 tnx = fused_mul_sub(p.near[0], rdir[0], org_rdir[0]);
+  const vfloat4 tny = fused_mul_sub(p.near[1], rdir[1], org_rdir[1]);
+  const vfloat4 tnz = fused_mul_sub(p.near[2], rdir[2], org_rdir[2]);
+  const vfloat4 tfx = fused_mul_sub(p.far[0], rdir[0], org_rdir[0]);
+  const vfloat4 tfy = fused_mul_sub(p.far[1], rdir[1], org_rdir[1]);
+  const vfloat4 tfz = fused_mul_sub(p.far[2], rdir[2], org_rdir[2]);
+  tnear = xsimd::max(xsimd::max(tnx, tny), xsimd::max(tnz, tmin));
+  const vfloat4 tfar = xsimd::min(xsimd::min(tfx, tfy), xsimd::min(tfz, tmax));
+  return tnear <= tfar;
+}
+
 /// Slab test of the four children of `node` over [tmin, tmax]. Returns the
 /// bit mask of children hit and their entry distances in `tnear`.
 PT_ALWAYS_INLINE uint32_t intersect_node(const Bvh4Node& node, const NodeRay& r, const vfloat4& tmin,
                                          const vfloat4& tmax, vfloat4& tnear) {
-  const char* base = reinterpret_cast<const char*>(&node);
-  auto plane = [base](uint32_t offset) { return vfloat4::load_aligned(reinterpret_cast<const float*>(base + offset)); };
-  vfloat4 tnx = fused_mul_sub(plane(r.near[0]), r.rdir[0], r.org_rdir[0]);
-  vfloat4 tny = fused_mul_sub(plane(r.near[1]), r.rdir[1], r.org_rdir[1]);
-  vfloat4 tnz = fused_mul_sub(plane(r.near[2]), r.rdir[2], r.org_rdir[2]);
-  vfloat4 tfx = fused_mul_sub(plane(r.far[0]), r.rdir[0], r.org_rdir[0]);
-  vfloat4 tfy = fused_mul_sub(plane(r.far[1]), r.rdir[1], r.org_rdir[1]);
-  vfloat4 tfz = fused_mul_sub(plane(r.far[2]), r.rdir[2], r.org_rdir[2]);
-  tnear = xsimd::max(xsimd::max(tnx, tny), xsimd::max(tnz, tmin));
-  vfloat4 tfar = xsimd::min(xsimd::min(tfx, tfy), xsimd::min(tfz, tmax));
-  return movemask(tnear <= tfar);
+  return movemask(children_entered(child_planes(node, r.near, r.far), r.rdir, r.org_rdir, tmin, tmax, tnear));
+}
+
+/// The near and far plane rows (0-5, as intersect_node takes them) of each
+/// axis for rays of one direction octant: bit a of `octant` set where the
+/// reciprocal direction on axis a is negative.
+struct OctantPlanes {
+  uint32_t near[3], far[3];
+  OctantPlanes() : OctantPlanes(0) {}
+  explicit OctantPlanes(uint32_t octant) {
+    for (uint32_t a = 0; a < 3; ++a) {
+      const bool negative = (octant >> a & 1) != 0;
+      near[a] = 2 * a + (negative ? 1 : 0);
+      far[a] = 2 * a + (negative ? 0 : 1);
+    }
+  }
+  /// The rows as byte offsets in a node (NodeRay's near and far).
+  void offsets(uint32_t (&near_offset)[3], uint32_t (&far_offset)[3]) const {
+    for (int a = 0; a < 3; ++a)
+      near_offset[a] = near[a] * uint32_t(sizeof(float[4])), far_offset[a] = far[a] * uint32_t(sizeof(float[4]));
+  }
+};
+
+/// The octant of a ray: bit a set when NodeRay's reciprocal direction on
+/// axis a is negative (the sign bit of dir[a], -0 included: NodeRay clamps it
+/// to -kMinDir). Under flush-to-zero a component below -8.5e37 has a
+/// reciprocal of -0, which NodeRay counts as positive; then both planes give
+/// the same distances (0 times either), so the test's answer is the same.
+PT_ALWAYS_INLINE uint32_t octant_of(const Ray& r) {
+  return uint32_t(std::signbit(r.dir.x)) | uint32_t(std::signbit(r.dir.y)) << 1 | uint32_t(std::signbit(r.dir.z)) << 2;
 }
 
 #if PT_PER_LEVEL
@@ -84,21 +135,6 @@ PT_ALWAYS_INLINE vboolK lanes_enter_child(const Bvh4Node& node, int c, const Nod
   tnear = tn;
   return tn <= tf;
 }
-
-/// The near and far plane rows (0-5, as intersect_node takes them) of each
-/// axis for rays of one direction octant: bit a of `octant` set where the
-/// reciprocal direction on axis a is negative.
-struct OctantPlanes {
-  uint32_t near[3], far[3];
-  OctantPlanes() : OctantPlanes(0) {}
-  explicit OctantPlanes(uint32_t octant) {
-    for (uint32_t a = 0; a < 3; ++a) {
-      const bool negative = (octant >> a & 1) != 0;
-      near[a] = 2 * a + (negative ? 1 : 0);
-      far[a] = 2 * a + (negative ? 0 : 1);
-    }
-  }
-};
 
 /// lanes_enter_child for K rays of one direction octant: each axis's near and
 /// far plane as intersect_node takes them, which need no min and max.

@@ -249,8 +249,7 @@ inline bool walk_ray(const Bvh4& bvh, uint32_t start, const Ray& ray, Hit& hit, 
   RayWalk<kAnyHit, Blocks> w;
   w.begin(ray, start, hit);
   bool blocked = false;
-  while (walk_step(bvh, w, blocked, PrefetchAlone{}, counters)) {
-  }
+  while (walk_step(bvh, w, blocked, PrefetchAlone{}, counters)) {}
   if constexpr (kAnyHit) return blocked;
   hit = w.hit;
   return w.found();

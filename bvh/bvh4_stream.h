@@ -154,10 +154,8 @@ inline QueueDirection direction_of(const RayArrays& rays) {
   q.shared = true;
   uint32_t octant = 0;
   for (int a = 0; a < 3; ++a) {
-    const float d = rays.dir[a][0];
-    q.dir[a] = d;
-    const float safe = std::fabs(d) < NodeRay::kMinDir ? std::copysign(NodeRay::kMinDir, d) : d;
-    q.rdir[a] = 1.0f / safe;  // slab_constants' and NodeRay's
+    q.dir[a] = rays.dir[a][0];
+    q.rdir[a] = NodeRay::reciprocal(q.dir[a]);
     octant |= uint32_t(q.rdir[a] < 0.0f) << a;
   }
   q.planes = OctantPlanes(octant);

@@ -21,6 +21,7 @@
 #include "bvh4_stream.h"
 #endif
 #include "kernels/math/ray_arrays.h"
+#include "kernels/simd/cache_size.h"
 
 namespace pt {
 inline namespace PT_ISA_NS {
@@ -77,25 +78,85 @@ inline bool in_coherent_runs(const RayArrays& rays, float near, size_t run) {
   return true;
 }
 
+/// How far a sky's directions spread: the ranges of a run's unit directions
+/// on the three axes sum to more than this (a sky's samples from the CS184
+/// scenes' surfaces 3.7-4.8 over 32 consecutive rays, an area light's 0.9-1.5,
+/// a directional light's 0).
+inline constexpr float kSphereSpread = 3.0f;
+
+/// Consecutive rays per run that spans_the_sphere measures.
+inline constexpr size_t kSpreadRun = 32;
+
+/// The sum of the ranges on the three axes of the unit directions of rays
+/// [first, first + n); rays whose direction is not finite or is 0 count for
+/// nothing.
+inline float direction_spread(const RayArrays& rays, size_t first, size_t n) {
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t i = first; i < first + n; ++i) {
+    const float3 d{rays.dir[0][i], rays.dir[1][i], rays.dir[2][i]};
+    const float len = length(d);
+    if (!(len > 0.0f && len < INFINITY)) continue;
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], d[a] / len), hi[a] = std::max(hi[a], d[a] / len);
+  }
+  float sum = 0.0f;
+  for (int a = 0; a < 3; ++a) sum += hi[a] > lo[a] ? hi[a] - lo[a] : 0.0f;
+  return sum;
+}
+
+/// Whether a queue's directions span the sphere, as a sky's samples do:
+/// four runs of kSpreadRun rays spread over the queue (one run of all its
+/// rays when it is shorter than four) each spread more than kSphereSpread.
+inline bool spans_the_sphere(const RayArrays& rays) {
+  if (rays.size < 4 * kSpreadRun) return rays.size >= 2 && direction_spread(rays, 0, rays.size) > kSphereSpread;
+  for (size_t k = 0; k < 4; ++k)
+    if (!(direction_spread(rays, k * (rays.size / 4) / kSpreadRun * kSpreadRun, kSpreadRun) > kSphereSpread))
+      return false;
+  return true;
+}
+
+/// Whether an any-hit queue goes as octant sets (bvh4_octant_sets.h) at a
+/// level of `lanes` lanes, in a tree of `tree_bytes` on a core whose L2
+/// holds `l2_bytes`, and with `part_rays` rays in a stream's part. Rays that
+/// spread over the sphere part ways at the first nodes, so a stream's lists
+/// thin out and each node is tested for few rays; an octant set instead
+/// loads each node once for its rays. That pays where
+///   - the directions span the sphere (a sky's samples);
+///   - the tree is larger than L2, so that rays wait on nodes and leaves the
+///     set's rays then share;
+///   - the level has at most 8 lanes: an octant set's node test takes one ray
+///     against four children, and at 16 lanes a stream's test takes sixteen
+///     rays against a child;
+///   - the queue is at most an eighth of a stream's part (a set's worth of
+///     rays per octant on average): longer queues keep a stream's lists long
+///     enough for its tests across rays.
+inline bool goes_as_octant_sets(const RayArrays& rays, size_t lanes, size_t tree_bytes, size_t l2_bytes,
+                                size_t part_rays) {
+  return lanes <= 8 && rays.size <= part_rays / 8 && tree_bytes > l2_bytes && spans_the_sphere(rays);
+}
+
 #if PT_PER_LEVEL
 /// How a queue is traced (scene_bvh4_queries.h).
 enum class QueueMethod {
-  kRays,    ///< ray by ray, each its own walk (bvh4_ray_walk.h)
-  kSets,    ///< coherent sets of 64 consecutive rays (bvh4_coherent_set.h)
-  kStream,  ///< a ray stream (bvh4_stream.h)
+  kRays,        ///< ray by ray, each its own walk (bvh4_ray_walk.h)
+  kSets,        ///< coherent sets of 64 consecutive rays (bvh4_coherent_set.h)
+  kOctantSets,  ///< any hit: sets of 32 rays of one direction octant (bvh4_octant_sets.h)
+  kStream,      ///< a ray stream (bvh4_stream.h)
 };
 
 /// The rule that picks a queue's method (docs/bvh.md, "How a queue is
-/// traced"): ray by ray when the leaves are not Moller-Trumbore's (the sets'
-/// and streams' triangle tests are) or when the queue has fewer rays than a
+/// traced"): ray by ray when the leaves are not Moller-Trumbore's (the other
+/// methods' triangle tests are) or when the queue has fewer rays than a
 /// stream tests across lanes at its root (it would hand them all to walks
 /// there); as coherent sets when it comes in coherent runs of K rays
-/// (in_coherent_runs, within a 32nd of the scene's extent); else as a stream.
-template <class Blocks>
+/// (in_coherent_runs, within a 32nd of the scene's extent); for any hit, as
+/// octant sets when goes_as_octant_sets says so; else as a stream.
+template <class Blocks, bool kAnyHit>
 inline QueueMethod choose_queue_method(const Bvh4& bvh, const RayArrays& rays) {
   if (!std::is_same_v<Blocks, MtBlocks> || rays.size < stream_detail::kStreamMinRays) return QueueMethod::kRays;
   if (rays.size >= 4 * kLanes && in_coherent_runs(rays, kCoherentSpread * scene_extent(bvh), kLanes))
     return QueueMethod::kSets;
+  if (kAnyHit && goes_as_octant_sets(rays, kLanes, bvh.bytes(), l2_cache_bytes(), stream_detail::kMaxStreamRays))
+    return QueueMethod::kOctantSets;
   return QueueMethod::kStream;
 }
 #endif

@@ -3,7 +3,8 @@
 // and the engines' hot loops call them with no dispatch. Spheres are tested
 // after the tree (closest hit) or before it (any hit). A whole queue goes by
 // the rule of choose_queue_method (queue_coherence.h): ray by ray, as
-// coherent sets (bvh4_coherent_set.h) or as a stream (bvh4_stream.h). Blocks
+// coherent sets (bvh4_coherent_set.h), for any hit as octant sets
+// (bvh4_octant_sets.h), or as a stream (bvh4_stream.h). Blocks
 // is the leaves' triangle test (bvh4_leaf_test.h): the queue methods are
 // written for Moller-Trumbore leaves, and watertight ones go ray by ray.
 #pragma once
@@ -15,6 +16,7 @@
 #include <span>
 
 #include "bvh4_coherent_set.h"
+#include "bvh4_octant_sets.h"
 #include "bvh4_ray_walk.h"
 #include "bvh4_stream.h"
 #include "kernels/scene/sphere_intersect.h"
@@ -208,7 +210,7 @@ template <bool kAnyHit, class C>
 template <class Blocks = MtBlocks, class C>
 inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const HitArrays& hits, QueueScratch& scratch,
                             C& c) {
-  switch (choose_queue_method<Blocks>(s.bvh(), rays)) {
+  switch (choose_queue_method<Blocks, false>(s.bvh(), rays)) {
     case QueueMethod::kRays:
       for (size_t i = 0; i < rays.size; ++i) {
         Hit h;
@@ -217,6 +219,7 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
       }
       return;
     case QueueMethod::kSets: trace_queue_as_sets<false>(s, rays, hits, nullptr, c); return;
+    case QueueMethod::kOctantSets:  // any hit only
     case QueueMethod::kStream: break;
   }
   bvh4_intersect_stream(s.bvh(), rays, hits, scratch, c);
@@ -227,16 +230,19 @@ inline void intersect_queue(const SceneBvh4& s, const RayArrays& rays, const Hit
 /// (SceneBvh4::occluded_queue).
 template <class Blocks = MtBlocks, class C>
 inline void occluded_queue(const SceneBvh4& s, const RayArrays& rays, uint8_t* blocked, QueueScratch& scratch, C& c) {
-  switch (choose_queue_method<Blocks>(s.bvh(), rays)) {
+  const QueueMethod method = choose_queue_method<Blocks, true>(s.bvh(), rays);
+  switch (method) {
     case QueueMethod::kRays:
       for (size_t i = 0; i < rays.size; ++i) blocked[i] = occluded<Blocks>(s, rays.ray(i), c);
       return;
     case QueueMethod::kSets: trace_queue_as_sets<true>(s, rays, HitArrays{}, blocked, c); return;
+    case QueueMethod::kOctantSets:
     case QueueMethod::kStream: break;
   }
   if (rays.size > 0) std::memset(blocked, 0, rays.size);  // an empty queue may come with no array
   if (!s.spheres().empty()) spheres_block_queue(s.spheres(), rays, blocked, c);
-  bvh4_occluded_stream(s.bvh(), rays, blocked, scratch, c);
+  if (method == QueueMethod::kOctantSets) bvh4_occluded_octant_sets(s.bvh(), rays, blocked, c);
+  else bvh4_occluded_stream(s.bvh(), rays, blocked, scratch, c);
 }
 
 }  // namespace PT_ISA_NS

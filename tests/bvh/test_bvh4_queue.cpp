@@ -22,6 +22,7 @@
 #include "bvh/bvh4_interleaved.h"
 #include "bvh/queue_coherence.h"
 #include "bvh/scene_bvh4.h"
+#include "kernels/simd/cache_size.h"
 #include "support/bvh4_support.h"
 #include "support/test_support.h"
 
@@ -29,6 +30,9 @@ namespace pt::test {
 namespace {
 
 const Hit kSentinel = kSentinelHit;
+
+/// Rays a stream traces in one part at every level (bvh4_stream.h).
+constexpr size_t kPartRays = 4096;
 
 size_t lanes() { return isa_lanes(active_isa()); }
 
@@ -780,13 +784,69 @@ std::vector<Ray> sky_like_rays(const Scene& mesh, size_t n, uint32_t seed) {
   return rays;
 }
 
-TEST(Bvh4Queue, SkyLikeQueuesMatchSingleRaysAndCountTheirWork) {
+TEST(Bvh4Queue, OnlyShortQueuesOverTheWholeSphereInATreePastL2GoAsOctantSets) {
+  // goes_as_octant_sets: a sky's samples (directions over the whole sphere)
+  // in queues of at most an eighth of a stream's part, in a tree that one
+  // core's L2 does not hold, at 4 or 8 lanes; not an area light's cone of
+  // directions, a directional light's one direction, a longer queue, a tree
+  // that the L2 holds or 16 lanes.
+  const Scene fine_mesh = tessellated_sphere(6, {0, 0, 0}, 1.0f), coarse_mesh = tessellated_sphere(4, {0, 0, 0}, 1.0f);
+  SceneBvh4 fine(fine_mesh), coarse(coarse_mesh);
+  const size_t l2 = size_t(1) << 20;  // an L2 of 1 MiB, between the two trees (0.24 and 3.8 MB)
+  const size_t part = kPartRays, most = part / 8;
+  ASSERT_GT(fine.bvh().bytes(), l2);
+  ASSERT_LT(coarse.bvh().bytes(), l2);
+  auto goes = [&](const SceneBvh4& bvh, std::span<const Ray> q, size_t lanes) {
+    return goes_as_octant_sets(Queue(q).rays(), lanes, bvh.bvh().bytes(), l2, part);
+  };
+  const std::vector<Ray> sky = uniform_random_rays(fine_mesh, most + 1, 40);
+  const std::span<const Ray> all(sky);
+  for (size_t n : {size_t(16), size_t(127), size_t(128), size_t(375), most}) {
+    for (size_t lanes : {4u, 8u}) {
+      EXPECT_TRUE(goes(fine, all.first(n), lanes)) << n << " rays";
+      EXPECT_FALSE(goes(coarse, all.first(n), lanes)) << n << " rays";
+    }
+    EXPECT_FALSE(goes(fine, all.first(n), 16)) << n << " rays";
+  }
+  EXPECT_FALSE(goes(fine, all, 8));  // one ray too many
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Ray> area, directional;
+  for (const Ray& r : all.first(most)) {
+    const float3 on_light{2.0f * u(rng), 6.0f, 2.0f * u(rng)};  // a 4 x 4 light 5 above the box
+    area.push_back({r.org, 0.0f, on_light - r.org, 1.0f});
+    directional.push_back({r.org, 0.0f, {0.3f, 1.0f, 0.2f}, kInfinity});
+  }
+  EXPECT_FALSE(goes(fine, area, 8));
+  EXPECT_FALSE(goes(fine, directional, 8));
+  EXPECT_EQ(direction_spread(Queue(directional).rays(), 0, directional.size()), 0.0f);
+  // The spread, exactly: +x, -x and +y (any length) range 2 on x, 1 on y,
+  // 0 on z; a NaN, an infinite and a zero direction count for nothing. A
+  // spread of exactly kSphereSpread does not span the sphere.
+  std::vector<Ray> three = {{{0, 0, 0}, 0.0f, {3, 0, 0}, 1.0f},         {{0, 0, 0}, 0.0f, {-0.5f, 0, 0}, 1.0f},
+                            {{0, 0, 0}, 0.0f, {0, 2, 0}, 1.0f},         {{0, 0, 0}, 0.0f, {NAN, 0, 1}, 1.0f},
+                            {{0, 0, 0}, 0.0f, {0, -INFINITY, 0}, 1.0f}, {{0, 0, 0}, 0.0f, {0, 0, 0}, 1.0f}};
+  EXPECT_EQ(direction_spread(Queue(three).rays(), 0, three.size()), 3.0f);
+  EXPECT_FALSE(spans_the_sphere(Queue(three).rays()));
+  three.push_back({{0, 0, 0}, 0.0f, {0, 0, 1e-3f}, 1.0f});
+  EXPECT_FLOAT_EQ(direction_spread(Queue(three).rays(), 0, three.size()), 4.0f);
+  EXPECT_TRUE(spans_the_sphere(Queue(three).rays()));
+  // A sky queue of 512 rays with one quarter's run along one direction: the
+  // queue is judged by every quarter.
+  std::vector<Ray> one_run_aligned(sky.begin(), sky.begin() + most);
+  for (size_t i = 384; i < 384 + kSpreadRun; ++i) one_run_aligned[i].dir = {0, 0, 1};
+  EXPECT_FALSE(spans_the_sphere(Queue(one_run_aligned).rays()));
+}
+
+TEST(Bvh4Queue, SkyLikeQueuesMatchSingleRaysAndDoTheirWork) {
   // Any-hit queues of a sky's samples (directions over the whole sphere),
   // every length from 1 to 100 and longer ones, from inside and outside a
   // fine sphere, with short rays, tmin > 0, +-0 and clamped components, and
-  // untraceable rays: each ray gets its single-ray answer, counted or not,
-  // and a counted queue counts work. A sphere primitive in the scene blocks
-  // some rays before the tree.
+  // untraceable rays: each ray gets its single-ray answer, counted or not.
+  // Those that go as octant sets (short ones at up to 8 lanes, in a tree
+  // past L2) visit exactly the nodes and triangles each ray visits alone; the
+  // others (a stream) count work. A sphere primitive in the scene blocks some
+  // rays before the tree.
   Scene mesh = tessellated_sphere(6, {0, 0, 0}, 1.0f);
   SceneBvh4 bvh(mesh);
   QueueScratch scratch;
@@ -797,26 +857,39 @@ TEST(Bvh4Queue, SkyLikeQueuesMatchSingleRaysAndCountTheirWork) {
   for (const Ray& r : rays) blocked += bvh.occluded(r);
   EXPECT_GT(blocked, rays.size() / 5);  // both answers are exercised
   EXPECT_LT(blocked, rays.size() - rays.size() / 5);
-  size_t start = 0;
+  size_t start = 0, as_sets = 0;
   auto check = [&](size_t n, const std::string& what) {
     start = (start + 613) % (rays.size() - n);
     const std::span<const Ray> q = std::span<const Ray>(rays).subspan(start, n);
     expect_queue_matches_single_rays(bvh, q, scratch, what);
     Queue counted(q);
-    TraversalCounters queue_work;
+    TraversalCounters queue_work, alone_work;
     bvh.occluded_queue(counted.rays(), counted.blocked.data(), scratch, &queue_work);
     size_t traceable = 0;
     for (size_t i = 0; i < n; ++i) {
-      EXPECT_EQ(counted.blocked[i], uint8_t(bvh.occluded(q[i]))) << what << " counted, ray " << i;
+      EXPECT_EQ(counted.blocked[i], uint8_t(bvh.occluded(q[i], &alone_work))) << what << " counted, ray " << i;
       traceable += q[i].tmin < q[i].tmax && !std::isnan(q[i].dir.y);
     }
-    if (traceable > 0) { EXPECT_GT(queue_work.nodes, 0u) << what; }
+    const bool sets = n >= 16 && goes_as_octant_sets(Queue(q).rays(), lanes(), bvh.bvh().bytes(), l2_cache_bytes(),
+                                                     kPartRays);  // past the stream's minimum (2-8 rays)
+    as_sets += sets;
+    if (sets) {
+      EXPECT_EQ(queue_work.nodes, alone_work.nodes) << what;
+      EXPECT_EQ(queue_work.primitives, alone_work.primitives) << what;
+    } else if (traceable > 0) {
+      EXPECT_GT(queue_work.nodes, 0u) << what;
+    }
   };
   for (size_t n = 1; n <= 100; ++n) check(n, "sky queue of " + std::to_string(n));
   for (size_t n : {size_t(127), size_t(129), size_t(255), size_t(375), size_t(512), size_t(4097)})
     check(n, "sky queue of " + std::to_string(n));
   for (Ray& r : rays) r.org = r.org * 0.5f;  // all inside
   for (size_t n : {size_t(33), size_t(200), size_t(512)}) check(n, "sky queue from inside of " + std::to_string(n));
+  if (bvh.bvh().bytes() > l2_cache_bytes() && lanes() <= 8) {
+    EXPECT_EQ(as_sets, 85u + 5u + 3u);  // every queue of 16 to 512 rays
+  } else {
+    EXPECT_EQ(as_sets, 0u);
+  }
   mesh.spheres.push_back({{0.3f, 0.2f, -0.1f}, 0.4f, mesh.triangle_material[0]});
   mesh.bounds = compute_scene_bounds(mesh);
   SceneBvh4 with_sphere(mesh);
