@@ -33,6 +33,7 @@ template <bool kAnyHit, int K, class Next, class Done, class Settled, class C>
 inline void walk_interleaved(const Bvh4& bvh, Next&& next, Done&& done, Settled&& settled, C& counters) {
   struct Turn {
     RayWalk<kAnyHit> walk;
+    Bvh4WalkEntry<kAnyHit> stack[kBvh4StackSize];
     uint32_t tag;
     bool live = false;
   };
@@ -44,7 +45,7 @@ inline void walk_interleaved(const Bvh4& bvh, Next&& next, Done&& done, Settled&
     Hit nearest;
     t.live = next(r, from, nearest, t.tag);
     if (!t.live) return false;
-    t.walk.begin(r, from, nearest);
+    t.walk.begin(r, from, nearest, t.stack);
     prefetch.next(bvh, from);
     return true;
   };

@@ -87,9 +87,9 @@ template <class C>
         const vfloat4 rdir[3] = {vfloat4(s.rdir[0][k]), vfloat4(s.rdir[1][k]), vfloat4(s.rdir[2][k])};
         const vfloat4 org_rdir[3] = {vfloat4(s.org_rdir[0][k]), vfloat4(s.org_rdir[1][k]), vfloat4(s.org_rdir[2][k])};
         vfloat4 tnear;
-        entered = entered | bit_where(children_entered(planes, rdir, org_rdir, vfloat4(s.tmin[k]), vfloat4(s.tmax[k]),
-                                                       tnear),
-                                      1u << k);
+        entered =
+            entered |
+            bit_where(children_entered(planes, rdir, org_rdir, vfloat4(s.tmin[k]), vfloat4(s.tmax[k]), tnear), 1u << k);
       }
       uint32_t child_mask[4];
       lanes_of(entered, child_mask);

@@ -4,11 +4,12 @@
 //               the child to visit next and the others on the stack: nearest
 //               first, by entry distance, for closest hit (one hit child is
 //               descended without touching the stack); node order for any hit;
-//   test_leaf   the leaf's blocks (bvh4_leaf_test.h);
+//   leaf_hit    the leaf's blocks (bvh4_leaf_test.h);
 //   pop         the next entry of the stack, for closest hit skipping those
 //               that start beyond the nearest hit.
-// walk_step takes one of them for one ray: a single ray's walk is a loop of
-// steps (walk_ray), and interleaved walks take turns (bvh4_interleaved.h).
+// A single ray's walk (walk_ray) runs them with its state in locals, which
+// the compiler keeps in registers; walks that take turns (bvh4_interleaved.h)
+// keep theirs in a RayWalk and take one walk_step each turn.
 // Prefetch says what starts loading ahead: for a walk that runs alone, the
 // children left on the stack and the first child of the node about to be
 // tested (nodes are stored depth first); for walks that take turns, the whole
@@ -95,12 +96,18 @@ struct PrefetchTurns {
   PT_ALWAYS_INLINE void popped(const Bvh4& bvh, uint32_t ref) const { next(bvh, ref); }
 };
 
-/// One ray's walk below some node: its slab and block constants, the nearest
-/// hit so far (closest hit) and its stack. The block test is Blocks's
-/// (MtBlocks, bvh4_leaf_test.h, for the renderer).
+/// An entry of a walk's stack: a deferred subtree, with its entry distance
+/// for closest hit.
+template <bool kAnyHit>
+using Bvh4WalkEntry = std::conditional_t<kAnyHit, uint32_t, Bvh4StackEntry>;
+
+/// One ray's walk below some node, for walks that take turns: its slab and
+/// block constants, the nearest hit so far (closest hit) and the top of its
+/// stack, which lives apart. The block test is Blocks's (MtBlocks,
+/// bvh4_leaf_test.h, for the renderer).
 template <bool kAnyHit, class Blocks = MtBlocks>
 struct RayWalk {
-  using Entry = std::conditional_t<kAnyHit, uint32_t, Bvh4StackEntry>;
+  using Entry = Bvh4WalkEntry<kAnyHit>;
   NodeRay nr;
   typename Blocks::RayConstants br;
   vfloat4 tmin, vtmax;
@@ -108,13 +115,13 @@ struct RayWalk {
   float t_start;  ///< closest hit: tmax when the walk began; a walk found a hit when it ends below it
   Hit hit;        ///< closest hit: the nearest hit so far
   uint32_t cur;   ///< the node or leaf the next step takes
+  Entry* bottom;  ///< the walk's stack, kBvh4StackSize entries
   Entry* sp;
-  Entry stack[kBvh4StackSize];
 
   /// Starts a walk of traceable `ray` from node or leaf `start`, under
   /// `nearest` (closest hit: the nearest hit so far, at most ray.tmax; any
-  /// hit: only its t counts, the end of the segment).
-  PT_ALWAYS_INLINE void begin(const Ray& ray, uint32_t start, const Hit& nearest) {
+  /// hit: only its t counts, the end of the segment), on `stack`.
+  PT_ALWAYS_INLINE void begin(const Ray& ray, uint32_t start, const Hit& nearest, Entry* stack) {
     nr = NodeRay(ray);
     br = typename Blocks::RayConstants(ray);
     tmin = vfloat4(ray.tmin);
@@ -122,20 +129,22 @@ struct RayWalk {
     vtmax = vfloat4(tmax);
     if constexpr (!kAnyHit) hit = nearest;
     cur = start;
-    sp = stack;
+    bottom = sp = stack;
   }
   /// Closest hit: whether the walk found a hit nearer than it began with.
   bool found() const { return tmax < t_start; }
 };
 
-/// Tests the four children of inner node `ref` and returns the one to visit
-/// next, having pushed the other children the ray enters; kEmptyRef when it
-/// enters none.
-template <bool kAnyHit, class Blocks, class Prefetch>
-PT_ALWAYS_INLINE uint32_t visit_node(const Bvh4& bvh, uint32_t ref, RayWalk<kAnyHit, Blocks>& w, const Prefetch& pf) {
+/// Tests the four children of inner node `ref` for a ray (its slab
+/// constants, tmin and nearest hit or segment end in four lanes) and returns
+/// the one to visit next, having pushed on `sp` the other children the ray
+/// enters; kEmptyRef when it enters none.
+template <bool kAnyHit, class Prefetch>
+PT_ALWAYS_INLINE uint32_t visit_node(const Bvh4& bvh, uint32_t ref, const NodeRay& nr, const vfloat4& tmin,
+                                     const vfloat4& tmax, Bvh4WalkEntry<kAnyHit>*& sp, const Prefetch& pf) {
   const Bvh4Node& node = bvh.node(ref);
   vfloat4 tnear;
-  uint32_t mask = intersect_node(node, w.nr, w.tmin, w.vtmax, tnear);
+  uint32_t mask = intersect_node(node, nr, tmin, tmax, tnear);
   if (mask == 0) return bvh4_ref::kEmptyRef;
   uint32_t next;
   if constexpr (kAnyHit) {  // node order: the last child entered goes on, the others wait
@@ -143,16 +152,12 @@ PT_ALWAYS_INLINE uint32_t visit_node(const Bvh4& bvh, uint32_t ref, RayWalk<kAny
       next = node.child[std::countr_zero(mask)];
       mask &= mask - 1;
       if (mask == 0) break;
-      *w.sp++ = next;
+      *sp++ = next;
       pf.pushed(bvh, next);
     }
   } else {
     alignas(16) float d[4];
     tnear.store_aligned(d);
-    auto push = [&](uint32_t c) {
-      *w.sp++ = {node.child[c], d[c]};
-      pf.pushed(bvh, node.child[c]);
-    };
     const uint32_t i0 = std::countr_zero(mask);
     mask &= mask - 1;
     if (mask == 0) {
@@ -162,28 +167,30 @@ PT_ALWAYS_INLINE uint32_t visit_node(const Bvh4& bvh, uint32_t ref, RayWalk<kAny
       mask &= mask - 1;
       if (mask == 0) {  // two: the farther waits
         const bool first_near = d[i0] <= d[i1];
-        push(first_near ? i1 : i0);
+        const uint32_t far = first_near ? i1 : i0;
+        *sp++ = {node.child[far], d[far]};
+        pf.pushed(bvh, node.child[far]);
         next = node.child[first_near ? i0 : i1];
       } else {  // three or four: all pushed, sorted far first, the nearest popped
-        Bvh4StackEntry* top = w.sp;
+        Bvh4StackEntry* top = sp;
         auto order = [](Bvh4StackEntry& a, Bvh4StackEntry& b) {  // the nearer one ends up later (on top)
           if (a.dist < b.dist) std::swap(a, b);
         };
-        *w.sp++ = {node.child[i0], d[i0]};
-        *w.sp++ = {node.child[i1], d[i1]};
+        *sp++ = {node.child[i0], d[i0]};
+        *sp++ = {node.child[i1], d[i1]};
         const uint32_t i2 = std::countr_zero(mask);
-        *w.sp++ = {node.child[i2], d[i2]};
+        *sp++ = {node.child[i2], d[i2]};
         mask &= mask - 1;
         if (mask == 0) {  // sorting networks
           order(top[0], top[1]), order(top[1], top[2]), order(top[0], top[1]);
         } else {
           const uint32_t i3 = std::countr_zero(mask);
-          *w.sp++ = {node.child[i3], d[i3]};
+          *sp++ = {node.child[i3], d[i3]};
           order(top[0], top[1]), order(top[2], top[3]), order(top[0], top[2]), order(top[1], top[3]);
           order(top[1], top[2]);
         }
-        for (Bvh4StackEntry* e = top; e + 1 < w.sp; ++e) pf.pushed(bvh, e->ref);
-        next = (--w.sp)->ref;
+        for (Bvh4StackEntry* e = top; e + 1 < sp; ++e) pf.pushed(bvh, e->ref);
+        next = (--sp)->ref;
       }
     }
   }
@@ -191,27 +198,21 @@ PT_ALWAYS_INLINE uint32_t visit_node(const Bvh4& bvh, uint32_t ref, RayWalk<kAny
   return next;
 }
 
-/// Tests the blocks of leaf `ref`: closest hit takes a nearer hit into the
-/// walk; any hit returns whether one blocks the ray.
-template <bool kAnyHit, class Blocks, class C>
-PT_ALWAYS_INLINE bool test_leaf(const Bvh4& bvh, uint32_t ref, RayWalk<kAnyHit, Blocks>& w, C& counters) {
-  LeafHit h{w.tmax, w.vtmax, w.hit};
-  return leaf_hit<kAnyHit, Blocks>(bvh.leaf_blocks(ref), bvh4_ref::leaf_block_count(ref), w.br, h, counters);
-}
-
-/// Takes the next entry off the stack into w.cur; false when the stack is
-/// empty. Closest hit passes over entries the ray enters beyond its nearest hit.
-template <bool kAnyHit, class Blocks>
-PT_ALWAYS_INLINE bool pop(RayWalk<kAnyHit, Blocks>& w) {
+/// Takes the next entry off the stack [bottom, sp) into `cur`; false when the
+/// stack is empty. Closest hit passes over entries the ray enters beyond its
+/// nearest hit `tmax`.
+template <bool kAnyHit>
+PT_ALWAYS_INLINE bool pop(Bvh4WalkEntry<kAnyHit>*& sp, const Bvh4WalkEntry<kAnyHit>* bottom, float tmax,
+                          uint32_t& cur) {
   if constexpr (kAnyHit) {
-    if (w.sp == w.stack) return false;
-    w.cur = *--w.sp;
+    if (sp == bottom) return false;
+    cur = *--sp;
   } else {
     do {
-      if (w.sp == w.stack) return false;
-      --w.sp;
-    } while (w.sp->dist > w.tmax);
-    w.cur = w.sp->ref;
+      if (sp == bottom) return false;
+      --sp;
+    } while (sp->dist > tmax);
+    cur = sp->ref;
   }
   return true;
 }
@@ -226,16 +227,17 @@ PT_ALWAYS_INLINE bool walk_step(const Bvh4& bvh, RayWalk<kAnyHit, Blocks>& w, bo
   if constexpr (requires { counters.visit(w.cur); }) counters.visit(w.cur);  // a recorder (bvh4_inspect.h)
   if (!bvh4_ref::is_leaf(w.cur)) {
     counters.node();
-    const uint32_t next = visit_node(bvh, w.cur, w, pf);
+    const uint32_t next = visit_node<kAnyHit>(bvh, w.cur, w.nr, w.tmin, w.vtmax, w.sp, pf);
     if (next != bvh4_ref::kEmptyRef) {
       w.cur = next;
       return true;
     }
-  } else if (test_leaf(bvh, w.cur, w, counters)) {
+  } else if (leaf_hit<kAnyHit, Blocks>(bvh.leaf_blocks(w.cur), bvh4_ref::leaf_block_count(w.cur), w.br,
+                                       LeafHit{w.tmax, w.vtmax, w.hit}, counters)) {
     blocked = true;
     return false;
   }
-  if (!pop(w)) return false;
+  if (!pop<kAnyHit>(w.sp, w.bottom, w.tmax, w.cur)) return false;
   pf.popped(bvh, w.cur);
   return true;
 }
@@ -243,16 +245,35 @@ PT_ALWAYS_INLINE bool walk_step(const Bvh4& bvh, RayWalk<kAnyHit, Blocks>& w, bo
 /// Walks traceable `ray` below node or leaf `start` (the root, or where a
 /// stream leaves the ray alone) under nearest hit `hit` (closest: replaced
 /// by a nearer one; any: hit.t is the end of the segment). Returns whether
-/// the walk found a nearer hit (closest) or an occluder (any).
+/// the walk found a nearer hit (closest) or an occluder (any). walk_step's
+/// steps, the nodes in an inner loop.
 template <bool kAnyHit, class Blocks = MtBlocks, class C>
 inline bool walk_ray(const Bvh4& bvh, uint32_t start, const Ray& ray, Hit& hit, C& counters) {
-  RayWalk<kAnyHit, Blocks> w;
-  w.begin(ray, start, hit);
-  bool blocked = false;
-  while (walk_step(bvh, w, blocked, PrefetchAlone{}, counters)) {}
-  if constexpr (kAnyHit) return blocked;
-  hit = w.hit;
-  return w.found();
+  const NodeRay nr(ray);
+  const typename Blocks::RayConstants br(ray);
+  const vfloat4 tmin(ray.tmin);
+  const float t_start = hit.t;
+  float tmax = t_start;
+  vfloat4 vtmax(tmax);
+  Bvh4WalkEntry<kAnyHit> stack[kBvh4StackSize];
+  Bvh4WalkEntry<kAnyHit>* sp = stack;
+  const PrefetchAlone pf;
+  uint32_t cur = start;
+  for (;;) {
+    while (!bvh4_ref::is_leaf(cur)) {
+      if constexpr (requires { counters.visit(cur); }) counters.visit(cur);
+      counters.node();
+      cur = visit_node<kAnyHit>(bvh, cur, nr, tmin, vtmax, sp, pf);
+      if (cur == bvh4_ref::kEmptyRef) break;
+    }
+    if (cur != bvh4_ref::kEmptyRef) {
+      if constexpr (requires { counters.visit(cur); }) counters.visit(cur);
+      if (leaf_hit<kAnyHit, Blocks>(bvh.leaf_blocks(cur), bvh4_ref::leaf_block_count(cur), br,
+                                    LeafHit{tmax, vtmax, hit}, counters))
+        return true;  // any hit: blocked
+    }
+    if (!pop<kAnyHit>(sp, stack, tmax, cur)) return tmax < t_start;
+  }
 }
 
 /// The closest triangle hit with ray.tmin <= t < ray.tmax. On a hit fills
