@@ -34,7 +34,7 @@ constexpr std::array<const char*, 2> kExrPixels = {"float", "half"};            
 
 /// Every valued flag as typed; converted after CLI11 has split the line.
 struct RawValues {
-  std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every;
+  std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every, presplit;
   std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard, trace;
   std::string exr_pixel;
   std::vector<std::string> resolution, adaptive, region;
@@ -107,6 +107,9 @@ void Converter::convert(const RawValues& raw) {
   if (app_.count("-b") > 0 && error.empty()) o_.lens_radius = lens_radius;
   if (app_.count("-d") > 0 && error.empty()) o_.focal_distance = focal_distance;
   integer("--leaf-size", "leaf size", raw.leaf_size, 1, 64, o_.max_leaf_size);
+  number(
+      "--presplit", "pre-splitting budget", raw.presplit, "a number from 0 to 16 (extra references per triangle)",
+      [](double v) { return v >= 0.0 && v <= 16.0; }, o_.presplit_budget);
   integer("--tile", "tile size", raw.tile, 1, pt::kMaxTileSize, o_.tile_size);
   if (app_.count("--shard") > 0 && error.empty()) {
     size_t slash = raw.shard.find('/');
@@ -278,12 +281,11 @@ namespace {
 /// Declares every flag; values land in `raw` as text, paths and switches in `o`.
 void add_options(CLI::App& app, Options& o, RawValues& raw) {
   app.get_formatter()->column_width(34);
-  auto integer = [&](const char* names, std::string& text, const char* help) {
-    app.add_option(names, text, help)->type_name("INT");
+  auto valued = [&](const char* names, std::string& text, const char* help, const char* type) {
+    app.add_option(names, text, help)->type_name(type);
   };
-  auto path = [&](const char* names, std::string& text, const char* help) {
-    app.add_option(names, text, help)->type_name("FILE");
-  };
+  auto integer = [&](const char* names, std::string& text, const char* help) { valued(names, text, help, "INT"); };
+  auto path = [&](const char* names, std::string& text, const char* help) { valued(names, text, help, "FILE"); };
   path("scene", o.scene_path, "COLLADA scene file (.dae)");
   integer("-s,--samples", raw.samples, "Camera rays per pixel (maximum, with adaptive sampling); 1");
   integer("-l,--light-samples", raw.light_samples, "Samples per area light (and sky) per shading point; 1");
@@ -303,39 +305,36 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("NUMBER");
   app.add_flag("-H,--hemisphere", raw.hemisphere, "Uniform hemisphere sampling for direct light");
   path("-c,--camera", o.camera_file, "Camera settings file");
-  app.add_option("-b,--lens-radius", raw.lens_radius, "Thin lens: aperture radius in scene units (0: pinhole); 0")
-      ->type_name("NUMBER");
-  app.add_option("-d,--focal-distance", raw.focal_distance,
-                 "Thin lens: distance to the plane in focus; the scene's centre")
-      ->type_name("NUMBER");
+  valued("-b,--lens-radius", raw.lens_radius, "Thin lens: aperture radius in scene units (0: pinhole); 0", "NUMBER");
+  valued("-d,--focal-distance", raw.focal_distance, "Thin lens: distance to the plane in focus; the scene's centre",
+         "NUMBER");
   path("-e,--envmap", o.environment_map, "Environment light: a lat-long OpenEXR map replacing the sky");
   app.add_option("-p,--region", raw.region, "Render only the region X Y DX DY (top-left origin)")
       ->expected(4)
       ->allow_extra_args(false)
       ->type_name("INT");
-  app.add_option("--engine", raw.engine, "Render engine: reference, wavefront or megakernel; wavefront")
-      ->type_name("NAME");
-  app.add_option("--bvh", raw.bvh,
-                 "Acceleration structure: bvh4, bvh2 (midpoint split) or none (brute force); bvh4 (bvh2 for the "
-                 "reference engine)")
-      ->type_name("NAME");
+  valued("--engine", raw.engine, "Render engine: reference, wavefront or megakernel; wavefront", "NAME");
+  valued("--bvh", raw.bvh,
+         "Acceleration structure: bvh4, bvh2 (midpoint split) or none (brute force); bvh4 (bvh2 for the "
+         "reference engine)",
+         "NAME");
   integer("--leaf-size", raw.leaf_size, "Maximum primitives per leaf of the bvh2 build; 4");
+  valued("--presplit", raw.presplit,
+         "BVH4: pre-split long diagonal triangles before the build, up to B extra references per "
+         "triangle (0 to 16); 0",
+         "B");
   integer("--seed", raw.seed, "Random seed; 0");
-  app.add_option("--rr", raw.rr,
-                 "Russian roulette continuation probability (--rr-mode fixed); 0.8 (--cs184-compat: 0.65)")
-      ->type_name("NUMBER");
-  app.add_option("--rr-mode", raw.rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))")
-      ->type_name("NAME");
-  app.add_option("--direct", raw.direct,
-                 "Direct light: mis (light samples + BSDF, power heuristic), light (importance sampling only), "
-                 "hemisphere (= -H) or cosine; mis (--cs184-compat: light)")
-      ->type_name("NAME");
-  app.add_option(
-         "--sampler", raw.sampler,
-         "Sample source: sobol (Owen-scrambled, stratified) or independent; sobol (--cs184-compat: independent)")
-      ->type_name("NAME");
-  app.add_option("--bounces", raw.bounces, "accumulate, only-m (only the m-th bounce), direct or indirect")
-      ->type_name("NAME");
+  valued("--rr", raw.rr, "Russian roulette continuation probability (--rr-mode fixed); 0.8 (--cs184-compat: 0.65)",
+         "NUMBER");
+  valued("--rr-mode", raw.rr_mode, "Russian roulette: fixed (--rr) or throughput (continue with max(beta))", "NAME");
+  valued("--direct", raw.direct,
+         "Direct light: mis (light samples + BSDF, power heuristic), light (importance sampling only), "
+         "hemisphere (= -H) or cosine; mis (--cs184-compat: light)",
+         "NAME");
+  valued("--sampler", raw.sampler,
+         "Sample source: sobol (Owen-scrambled, stratified) or independent; sobol (--cs184-compat: independent)",
+         "NAME");
+  valued("--bounces", raw.bounces, "accumulate, only-m (only the m-th bounce), direct or indirect", "NAME");
   app.add_flag("--normals", raw.normals, "Normal shading instead of path tracing");
   app.add_flag("--cs184-compat", raw.cs184,
                "Reproduce the course renderer: its area-light glow and pdf, invisible sky, 800x600 framing, "
@@ -344,16 +343,14 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
   path("--write-camera", o.write_camera_file, "Also write the render's camera settings file");
   path("--export-scene", o.export_scene,
        "Write the scene as this renderer reads it (JSON: geometry, materials, lights, the camera at -r) and exit");
-  app.add_option("--exr-pixel", raw.exr_pixel,
-                 "Pixel type of an OpenEXR output (-f out.exr): float (32-bit) or half (16-bit); float")
-      ->type_name("TYPE");
+  valued("--exr-pixel", raw.exr_pixel,
+         "Pixel type of an OpenEXR output (-f out.exr): float (32-bit) or half (16-bit); float", "TYPE");
   app.add_flag("--scene-info", o.scene_info,
                "Print what the scene file holds as loaded (nodes, meshes, materials, lights, camera) and what the "
                "loader ignored or changed, then exit");
   path("--checkpoint", o.checkpoint_file,
        "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
-  app.add_option("--checkpoint-every", raw.checkpoint_every, "Seconds between checkpoint saves; 60")
-      ->type_name("NUMBER");
+  valued("--checkpoint-every", raw.checkpoint_every, "Seconds between checkpoint saves; 60", "NUMBER");
   path("--variance", o.variance_file, "Also write each pixel's variance of its mean (grey PFM)");
   path("--reference", o.reference_image, "Converged reference image (PFM) for --convergence-csv");
   path("--convergence-csv", o.convergence_csv,
@@ -371,10 +368,10 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
       ->type_name("OUT PART");
   app.add_flag("--stats", o.stats, "Print per-stage statistics");
   app.add_flag("--memory", o.memory, "Print the bytes of every structure the render allocates and the peak RSS");
-  app.add_option("--trace", raw.trace,
-                 "Wavefront: queue (every queue whole through the queue tracer, which picks each queue's method) "
-                 "or single (every ray on its own, for comparison); queue")
-      ->type_name("NAME");
+  valued("--trace", raw.trace,
+         "Wavefront: queue (every queue whole through the queue tracer, which picks each queue's method) "
+         "or single (every ray on its own, for comparison); queue",
+         "NAME");
   app.add_flag(
       "--shade-in-queue-order", o.queue_order_shading,
       "Wavefront: shade bounce hits in the order their rays were queued, not sorted by the cell of their "
@@ -385,10 +382,10 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
        "scene's triangles (scene.tris), for trace_rays and bench_trace");
   app.add_flag("--count-tests", o.count_tests,
                "Count primitive intersection tests per ray for the report (BVH4 engines run slower)");
-  app.add_option("--isa", raw.isa,
-                 "SIMD instruction set of the engines: auto (the widest this CPU runs), sse4.2, avx2, avx512 or neon; "
-                 "also PT_ISA in the environment; auto")
-      ->type_name("NAME");
+  valued("--isa", raw.isa,
+         "SIMD instruction set of the engines: auto (the widest this CPU runs), sse4.2, avx2, avx512 or neon; "
+         "also PT_ISA in the environment; auto",
+         "NAME");
   app.add_flag("--list-isa", raw.list_isa,
                "List the instruction sets compiled in, whether this CPU runs them, and exit");
   app.add_flag("-q,--quiet", o.quiet, "No progress bar or summary");

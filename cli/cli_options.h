@@ -44,6 +44,7 @@ struct Options {
   Engine engine = Engine::kWavefront;
   AccelChoice accel = AccelChoice::kBvh4;
   uint32_t max_leaf_size = 4;
+  float presplit_budget = 0.0f;  ///< --presplit: BVH4 pre-splitting budget (Bvh4Options)
   bool cs184_framing = false;
   bool cs184_png = false;  ///< --cs184-compat: PNG values truncated as the course renderer does
   bool quiet = false;

@@ -16,8 +16,11 @@ namespace pt::cli {
 EngineRunner::EngineRunner(const Options& o, const Scene& scene, const Camera& camera)
     : options_(o), scene_(scene), camera_(camera) {
   auto start = std::chrono::steady_clock::now();
-  if (o.accel == AccelChoice::kBvh4) bvh4_ = std::make_unique<SceneBvh4>(scene);
-  else
+  if (o.accel == AccelChoice::kBvh4) {
+    Bvh4Options options;
+    options.presplit_budget = o.presplit_budget;
+    bvh4_ = std::make_unique<SceneBvh4>(scene, options);
+  } else
     bvh2_ = std::make_unique<SceneBvh2>(
         scene, o.accel == AccelChoice::kNone ? Bvh2Mode::kBruteForce : Bvh2Mode::kMidpoint, o.max_leaf_size);
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -51,6 +54,7 @@ RenderOutput render_pass_based(const Options& o, const Scene& scene, const Camer
 RenderOutput EngineRunner::render(const RenderSettings& rs, const RenderControl& control, QueueBytes* queues) const {
   if (queues) *queues = {};
   if (options_.engine == Engine::kReference) return reference::render_reference(scene_, *bvh2_, camera_, rs, control);
+  if (options_.stats && bvh4_) print_bvh4_stats(bvh4_->stats());
   wf::Tracing tracing{.bvh4 = bvh4_.get(), .bvh2 = bvh2_.get(), .count_tests = options_.count_tests};
   return render_pass_based(options_, scene_, camera_, rs, control, tracing, queues);
 }

@@ -45,4 +45,11 @@ void print_stage_stats(const wf::StageStats& s, const RenderStats& totals, Isa i
               totals.seconds > 0 ? totals.rays() / totals.seconds / 1e6 : 0.0);
 }
 
+void print_bvh4_stats(const Bvh4BuildStats& b) {
+  std::printf(
+      "bvh4: %u triangles, %u build references, %u nodes, %u leaves, %u blocks, %d levels, %.1f bytes per "
+      "triangle, built in %.1f ms\n",
+      b.triangles, b.references, b.nodes, b.leaves, b.blocks, b.depth, b.bytes_per_triangle, b.build_ms);
+}
+
 }  // namespace pt::cli

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "kernels/simd/isa.h"
+#include "bvh/bvh4_build.h"
 #include "kernels/render/render_stats.h"
 #include "wavefront/stage_stats.h"
 
@@ -10,5 +11,8 @@ namespace pt::cli {
 
 /// `isa`: the level the engine ran at.
 void print_stage_stats(const wf::StageStats& stages, const RenderStats& totals, Isa isa);
+
+/// --stats: the BVH4's build (triangles, build references, nodes, leaves, bytes).
+void print_bvh4_stats(const Bvh4BuildStats& build);
 
 }  // namespace pt::cli

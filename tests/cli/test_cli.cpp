@@ -84,6 +84,16 @@ const std::vector<BadFlags> kBadFlags = {
     {{"--rr", "1.5"}, "error: --rr: continuation probability must be a number in (0, 1], got \"1.5\""},
     {{"--seed", "-1"}, "error: --seed: seed must be an integer from 0 to 4294967295, got \"-1\""},
     {{"--leaf-size", "0"}, "error: --leaf-size: leaf size must be an integer from 1 to 64, got \"0\""},
+    {{"--presplit", "-1"},
+     "error: --presplit: pre-splitting budget must be a number from 0 to 16 (extra references per triangle), got "
+     "\"-1\""},
+    {{"--presplit", "nan"},
+     "error: --presplit: pre-splitting budget must be a number from 0 to 16 (extra references per triangle), got "
+     "\"nan\""},
+    {{"--presplit", "17"},
+     "error: --presplit: pre-splitting budget must be a number from 0 to 16 (extra references per triangle), got "
+     "\"17\""},
+    {{"--trace", "packets"}, "error: --trace: unknown trace mode \"packets\" (one of: queue, single)"},
     {{"--checkpoint-every", "0"},
      "error: --checkpoint-every: checkpoint interval must be a positive number of seconds, got \"0\""},
     {{"--isa", "sse5"}, "error: --isa: unknown instruction set \"sse5\" (one of: auto, sse4.2, avx2, avx512, neon)"},
@@ -315,6 +325,36 @@ TEST(Flags, EveryLevelTheCpuRunsRendersAndIsNamedInTheReport) {
 }
 
 // --------------------------------------------------------- valid values work
+
+TEST(Flags, PresplitReachesTheBuildAndKeepsTheImage) {
+  // --presplit cuts long diagonal triangles into fragments before the BVH4's
+  // build (--stats reports its build references): the tree changes, the hits
+  // and the image do not.
+  PT_REQUIRE_SHARED_SCENES();
+  test::ScratchDir dir;
+  const std::string scene = test::shared_scene("CBbunny.dae").string();
+  auto references = [&](const std::string& budget, const std::string& out) {
+    test::ProcessResult r = run(
+        dir, {"-t", "2", "-s", "4", "-m", "3", "-r", "64", "48", "--stats", "--presplit", budget, "-f", out, scene});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    unsigned triangles = 0, refs = 0;
+    const size_t at = r.out.find("bvh4: ");
+    EXPECT_NE(at, std::string::npos) << r.out;
+    if (at != std::string::npos)
+      std::sscanf(r.out.c_str() + at, "bvh4: %u triangles, %u build references", &triangles, &refs);
+    EXPECT_GT(triangles, 0u);
+    return std::pair{triangles, refs};
+  };
+  const auto [plain_triangles, plain_refs] = references("0", "plain.pfm");
+  const auto [split_triangles, split_refs] = references("1", "split.pfm");
+  EXPECT_EQ(plain_refs, plain_triangles);
+  EXPECT_EQ(split_triangles, plain_triangles);
+  EXPECT_GT(split_refs, plain_refs + plain_triangles / 2);  // a budget of 1: up to one extra reference per triangle
+  std::ifstream a(dir.path() / "plain.pfm", std::ios::binary), b(dir.path() / "split.pfm", std::ios::binary);
+  const std::string plain((std::istreambuf_iterator<char>(a)), {}), split((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_FALSE(plain.empty());
+  EXPECT_EQ(plain, split) << "pre-splitting changed the image";
+}
 
 TEST(Flags, ResolutionRegionAndDecimalSamplesTakeEffect) {
   test::ScratchDir dir;
