@@ -41,7 +41,8 @@ bool watertight_occluded(const Bvh4& tree, const SceneBvh4& s, const Ray& ray, T
 }  // namespace
 }  // namespace pt::bench
 
-namespace pt::PT_ISA_NS {
+namespace pt {
+inline namespace PT_ISA_NS {
 extern const bench::BenchQueryTable kBenchQueries;
 const bench::BenchQueryTable kBenchQueries = {
     .isa = PT_ISA,
@@ -50,4 +51,5 @@ const bench::BenchQueryTable kBenchQueries = {
     .watertight_intersect = bench::watertight_intersect,
     .watertight_occluded = bench::watertight_occluded,
 };
-}  // namespace pt::PT_ISA_NS
+}  // namespace PT_ISA_NS
+}  // namespace pt

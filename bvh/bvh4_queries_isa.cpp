@@ -54,7 +54,7 @@ void walk_tree(const SceneBvh4& s, const Ray& ray, Hit& hit, TraversalCounters& 
 
 }  // namespace
 
-namespace PT_ISA_NS {
+inline namespace PT_ISA_NS {
 extern const Bvh4QueryTable kBvh4Queries;
 const Bvh4QueryTable kBvh4Queries = {
     .isa = PT_ISA,

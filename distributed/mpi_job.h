@@ -30,7 +30,7 @@ class MpiJob {
 
  private:
   int rank_ = 0, size_ = 1;
-  bool joined_ = false;
+  [[maybe_unused]] bool joined_ = false;  ///< MPI_Init ran (only builds with MPI read it)
 };
 
 }  // namespace pt::dist

@@ -7,11 +7,12 @@
 #     run; ctest once per level, each level forced through PT_ISA; a level this
 #     CPU cannot run is reported as skipped. The tests labelled `browser` (the
 #     live view in headless Chromium) run once after the levels, not per level.
-#  2. AddressSanitizer + UndefinedBehaviorSanitizer build with Ninja
+#  2. AddressSanitizer + UndefinedBehaviorSanitizer build with Clang and Ninja
 #     (build-asan/, -O1, -march=native: the CPU's widest level and the native
 #     build's path; without MPI: the build everyone without Open MPI gets):
 #     every test but those labelled `slow` (over 5 s there; they ran in step 1)
-#     or `browser`.
+#     or `browser`. Step 1 builds with GCC, so every run builds with both
+#     compilers.
 #  3. On x86-64: an aarch64 cross build with Ninja (build-aarch64/), whose
 #     kernel, BVH, engine-agreement, furnace and loader tests run under
 #     qemu-aarch64.
@@ -90,14 +91,15 @@ summary+=("browser (headless Chromium): $(ctest_counts build/ctest_browser.log)"
 # ------------------------------------------------------------- 2. Sanitizers
 if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
   start=$(date +%s)
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_SANITIZE=ON -DPT_NATIVE=ON -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DPT_SANITIZE=ON -DPT_NATIVE=ON -DPT_BUILD_BENCH=OFF -DPT_MPI=OFF \
+        -DCMAKE_CXX_COMPILER=clang++
   cmake --build build-asan
   level=$(./build-asan/cli/pathtracer --list-isa | awk '{print $1}')
   ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
   LSAN_OPTIONS=suppressions="$PWD/tests/support/lsan_suppressions.txt":print_suppressions=0 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     run_ctest build-asan build-asan/ctest.log -LE 'slow|browser'
-  summary+=("asan+ubsan native $level: $(ctest_counts build-asan/ctest.log) (the tests labelled slow or browser left out)")
+  summary+=("asan+ubsan (clang) native $level: $(ctest_counts build-asan/ctest.log) (the tests labelled slow or browser left out)")
   echo "run_tests: sanitizer build and tests took $(( $(date +%s) - start )) s"
 fi
 

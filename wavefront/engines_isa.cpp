@@ -35,7 +35,9 @@ RenderOutput megakernel(const Scene& scene, const Camera& camera, const RenderSe
 }  // namespace PT_ISA_NS
 }  // namespace pt::wf
 
-namespace pt::PT_ISA_NS {
+namespace pt {
+inline namespace PT_ISA_NS {
 extern const wf::EngineTable kEngines;
 const wf::EngineTable kEngines = {.isa = PT_ISA, .wavefront = wf::wavefront, .megakernel = wf::megakernel};
-}  // namespace pt::PT_ISA_NS
+}  // namespace PT_ISA_NS
+}  // namespace pt

@@ -20,7 +20,9 @@
 // register (`__Y`), which its own uninitialized-use analysis then reports at
 // every use: those reports say nothing about this code.
 #pragma GCC diagnostic push
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #if defined(__x86_64__)
 #include <immintrin.h>

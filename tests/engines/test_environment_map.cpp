@@ -181,7 +181,7 @@ TEST(ExrImage, MalformedMissingAndSpecialFilesAreRefusedNamingThePath) {
 
   UniformSource u(99);
   std::string noise(4096, '\0');
-  for (char& c : noise) c = static_cast<char>(u.next() * 256);
+  for (char& c : noise) c = static_cast<char>(static_cast<unsigned char>(u.next() * 256));
   write_bytes(dir / "noise.exr", noise);
   expect_refused(dir / "noise.exr", "not an OpenEXR image");
 

@@ -15,14 +15,6 @@
 #include "wavefront/engines.h"
 #include "wavefront/streams.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define PT_ADDRESS_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define PT_ADDRESS_SANITIZER 1
-#endif
-#endif
-
 namespace pt {
 namespace {
 

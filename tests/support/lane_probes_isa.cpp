@@ -94,7 +94,8 @@ void sort_by_hit_point(const BBox& bounds, StreamColumns& ray_columns, StreamCol
 }  // namespace
 }  // namespace pt::test
 
-namespace pt::PT_ISA_NS {
+namespace pt {
+inline namespace PT_ISA_NS {
 extern const test::LaneProbes kLaneProbes;
 const test::LaneProbes kLaneProbes = {
     .isa = PT_ISA,
@@ -115,4 +116,5 @@ const test::LaneProbes kLaneProbes = {
     .compact_shadows = test::compact<wf::ShadowQueue>,
     .sort_by_hit_point = test::sort_by_hit_point,
 };
-}  // namespace pt::PT_ISA_NS
+}  // namespace PT_ISA_NS
+}  // namespace pt

@@ -88,7 +88,7 @@ bool drain(int out_fd, int err_fd, std::string& out, std::string& err, double ti
 ProcessResult run_process(const std::string& program, const std::vector<std::string>& args,
                           const std::filesystem::path& cwd, double timeout_seconds, size_t memory_limit_bytes,
                           const std::vector<std::string>& environment) {
-#if defined(__SANITIZE_ADDRESS__)
+#ifdef PT_ADDRESS_SANITIZER  // ASan's shadow memory needs the address space
   memory_limit_bytes = 0;
 #endif
   ProcessResult r;
