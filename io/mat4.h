@@ -21,16 +21,12 @@ struct Mat4 {
   }
   static Mat4 translation(float3 t) {
     Mat4 r = identity();
-    r.m[0][3] = t.x;
-    r.m[1][3] = t.y;
-    r.m[2][3] = t.z;
+    for (int i = 0; i < 3; ++i) r.m[i][3] = t[i];
     return r;
   }
   static Mat4 scaling(float3 s) {
     Mat4 r = identity();
-    r.m[0][0] = s.x;
-    r.m[1][1] = s.y;
-    r.m[2][2] = s.z;
+    for (int i = 0; i < 3; ++i) r.m[i][i] = s[i];
     return r;
   }
   /// Rotation by `degrees` about `axis` (need not be unit; zero axis -> identity).

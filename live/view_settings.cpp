@@ -6,19 +6,21 @@
 
 namespace pt::live {
 
+// The fields a view holds as the render settings hold them: X(view's, settings').
+#define PT_VIEW_FIELDS(X)                                                                                          \
+  X(samples, samples_per_pixel)                                                                                    \
+  X(light_samples, light_samples) X(max_depth, max_depth) X(adaptive_tolerance, adaptive_tolerance)               \
+  X(adaptive_batch, adaptive_batch) X(bounces, bounces) X(direct, direct)
+
 RenderSettings render_settings(const RenderSettings& base, const ViewSettings& v, int width, int height) {
   RenderSettings rs = base;
   rs.width = width;
   rs.height = height;
   rs.region.reset();
-  rs.samples_per_pixel = v.samples;
-  rs.light_samples = v.light_samples;
-  rs.max_depth = v.max_depth;
-  rs.adaptive_tolerance = v.adaptive_tolerance;
-  rs.adaptive_batch = v.adaptive_batch;
+#define PT_TO_SETTINGS(view, settings) rs.settings = v.view;
+  PT_VIEW_FIELDS(PT_TO_SETTINGS)
+#undef PT_TO_SETTINGS
   rs.shading = v.display == Display::kNormals ? ShadingMode::kNormals : ShadingMode::kPathTrace;
-  rs.bounces = v.bounces;
-  rs.direct = v.direct;
   return rs;
 }
 
@@ -26,16 +28,14 @@ ViewSettings view_settings_of(const RenderSettings& rs) {
   ViewSettings v;
   v.width = rs.width;
   v.height = rs.height;
-  v.samples = rs.samples_per_pixel;
-  v.light_samples = rs.light_samples;
-  v.max_depth = rs.max_depth;
-  v.adaptive_tolerance = rs.adaptive_tolerance;
-  v.adaptive_batch = rs.adaptive_batch;
+#define PT_TO_VIEW(view, settings) v.view = rs.settings;
+  PT_VIEW_FIELDS(PT_TO_VIEW)
+#undef PT_TO_VIEW
   v.display = rs.shading == ShadingMode::kNormals ? Display::kNormals : Display::kImage;
-  v.bounces = rs.bounces;
-  v.direct = rs.direct;
   return v;
 }
+
+#undef PT_VIEW_FIELDS
 
 std::string view_settings_problem(const ViewSettings& v) {
   auto range = [](const char* what, int64_t value, int64_t lo, int64_t hi) {

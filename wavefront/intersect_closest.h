@@ -11,9 +11,10 @@
 namespace pt::wf {
 inline namespace PT_ISA_NS {
 
-/// hits[i] = closest hit of rays[i] (prim = kInvalidId on a miss).
-template <class Tracer>
-void intersect_closest(const Tracer& tracer, const RayQueue& rays, HitQueue& hits, TracingBuffers& tb, uint64_t& tests,
+/// hits[i] = closest hit of rays[i] (prim = kInvalidId on a miss). Queue: a
+/// RayQueue, or a ShadowQueue of hemisphere-sampling rays.
+template <class Tracer, class Queue>
+void intersect_closest(const Tracer& tracer, const Queue& rays, HitQueue& hits, TracingBuffers& tb, uint64_t& tests,
                        TraceMode mode) {
   hits.reserve(rays.size);
   hits.size = rays.size;

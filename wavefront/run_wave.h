@@ -86,7 +86,7 @@ void run_wave(const WaveContext& ctx, const Tracer& tracer, std::span<const uint
       if (b.hemisphere.size > 0) {
         {
           QueueTimer q(stats, TracedQueue::kHemisphere, b.hemisphere.size);
-          intersect_hemisphere_rays(tracer, b.hemisphere, b.hits, b.tracing, stats.primitive_tests, mode);
+          intersect_closest(tracer, b.hemisphere, b.hits, b.tracing, stats.primitive_tests, mode);
         }
         add_found_emission(ctx, b.hemisphere, b.hits, b.paths);
       }

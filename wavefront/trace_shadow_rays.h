@@ -53,24 +53,6 @@ inline void add_unblocked(const ShadowQueue& shadows, const TracingBuffers& tb, 
   }
 }
 
-/// Closest hits of the hemisphere-sampling rays into `hits` (free at this stage).
-template <class Tracer>
-void intersect_hemisphere_rays(const Tracer& tracer, const ShadowQueue& rays, HitQueue& hits, TracingBuffers& tb,
-                               uint64_t& tests, TraceMode mode) {
-  hits.reserve(rays.size);
-  hits.size = rays.size;
-  const HitArrays found = hits.arrays();
-  if (mode == TraceMode::kQueue) {
-    tracer.intersect_queue(rays.arrays(), found, tb.scratch, tests);
-    return;
-  }
-  for (size_t i = 0; i < rays.size; ++i) {
-    Hit h;
-    if (!tracer.intersect(rays.ray(i), h, tests)) h = Hit{rays.tmax[i], 0.0f, 0.0f, kInvalidId};
-    found.store(i, h);
-  }
-}
-
 /// Each hemisphere-sampling ray adds weight x the emission its hit (in
 /// `hits`) finds.
 inline void add_found_emission(const WaveContext& ctx, const ShadowQueue& rays, const HitQueue& hits,

@@ -124,6 +124,15 @@ inline T exp2_int(T n) {
   }
 }
 
+/// The polynomial c[0] x^(N-1) + ... + c[N-1] by Horner's rule, highest
+/// power first: the same operations in the same order for a float and a batch.
+template <class T, size_t N>
+inline T horner(T x, const float (&c)[N]) {
+  T p = T(c[0]);
+  for (size_t i = 1; i < N; ++i) p = p * x + T(c[i]);
+  return p;
+}
+
 /// e^x with relative error < 3e-7, 0 below -87 and clamped above 88, by the
 /// same operations for a float and a batch (identical bits at every ISA).
 template <class T>
@@ -131,15 +140,9 @@ inline T exp(T x) {
   T xc = min(max(x, T(-87.0f)), T(88.0f));
   T n = floor(xc * T(1.44269504088896341f) + T(0.5f));
   T r = (xc - n * T(0.693145751953125f)) - n * T(1.42860682030941723e-6f);  // ln 2 in two parts
-  T p = T(1.0f / 5040.0f);
-  p = p * r + T(1.0f / 720.0f);
-  p = p * r + T(1.0f / 120.0f);
-  p = p * r + T(1.0f / 24.0f);
-  p = p * r + T(1.0f / 6.0f);
-  p = p * r + T(0.5f);
-  p = p * r + T(1.0f);
-  p = p * r + T(1.0f);
-  return select(x < T(-87.0f), T(0.0f), p * exp2_int(n));
+  static constexpr float kTaylor[] = {1.0f / 5040.0f, 1.0f / 720.0f, 1.0f / 120.0f, 1.0f / 24.0f,
+                                      1.0f / 6.0f,    0.5f,          1.0f,          1.0f};
+  return select(x < T(-87.0f), T(0.0f), horner(r, kTaylor) * exp2_int(n));
 }
 
 /// Natural logarithm of x > 0 (normal floats) with absolute error < 3e-7:
@@ -162,13 +165,8 @@ inline T log(T x) {
   e = select(big, e + T(1.0f), e);
   T s = (m - T(1.0f)) / (m + T(1.0f));
   T s2 = s * s;
-  T p = T(2.0f / 11.0f);
-  p = p * s2 + T(2.0f / 9.0f);
-  p = p * s2 + T(2.0f / 7.0f);
-  p = p * s2 + T(2.0f / 5.0f);
-  p = p * s2 + T(2.0f / 3.0f);
-  p = p * s2 + T(2.0f);
-  return e * T(0.693147180559945309f) + s * p;
+  static constexpr float kAtanh[] = {2.0f / 11.0f, 2.0f / 9.0f, 2.0f / 7.0f, 2.0f / 5.0f, 2.0f / 3.0f, 2.0f};
+  return e * T(0.693147180559945309f) + s * horner(s2, kAtanh);
 }
 
 }  // namespace PT_ISA_NS
