@@ -6,7 +6,7 @@
 // triangle, so a triangle may sit in several leaves (tighter boxes, fewer
 // rays testing it for nothing) at a memory cost bounded by the budget. Off by
 // default (Bvh4Options::presplit_budget = 0): measured, it helped some scenes
-// and ray kinds and cost others as much (docs/bvh_and_benchmarks.md, "What was tried").
+// and ray kinds and cost others as much (docs/what_was_tried.md).
 #pragma once
 
 #include <cstdint>
