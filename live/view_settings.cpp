@@ -7,10 +7,16 @@
 namespace pt::live {
 
 // The fields a view holds as the render settings hold them: X(view's, settings').
-#define PT_VIEW_FIELDS(X)                                                                                          \
-  X(samples, samples_per_pixel)                                                                                    \
-  X(light_samples, light_samples) X(max_depth, max_depth) X(adaptive_tolerance, adaptive_tolerance)               \
-  X(adaptive_batch, adaptive_batch) X(bounces, bounces) X(direct, direct)
+// clang-format off
+#define PT_VIEW_FIELDS(X)                        \
+  X(samples, samples_per_pixel)                  \
+  X(light_samples, light_samples)                \
+  X(max_depth, max_depth)                        \
+  X(adaptive_tolerance, adaptive_tolerance)      \
+  X(adaptive_batch, adaptive_batch)              \
+  X(bounces, bounces)                            \
+  X(direct, direct)
+// clang-format on
 
 RenderSettings render_settings(const RenderSettings& base, const ViewSettings& v, int width, int height) {
   RenderSettings rs = base;
