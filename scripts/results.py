@@ -14,6 +14,7 @@ host record and command, and the Markdown tables generated from them.
       Regenerates every table from the JSON: results/<folder>/<name>.md next to each
       results/<folder>/<name>.json, the index in results/README.md, the README's
       table of results (between its results-table markers, from the file they name),
+      each docs/ page's data-table block (the tables of the record its marker names),
       and the table of what was tried and not kept in docs/what_was_tried.md (from
       results/studies/tried.json).
 """
@@ -148,6 +149,17 @@ def readme_table(path):
     return textwrap.fill(caption, 96) + "\n\n" + "\n".join(table) + "\n"
 
 
+def data_table(path):
+    """A docs/ page's table of one results record (kind "table"), with a line naming the record, which holds
+    the host, the day, the commit and the command: the page itself names none of them."""
+    rec = results.load(os.path.join(ROOT, path))
+    lines = []
+    for t in rec["tables"]:
+        lines += markdown_table(t["columns"], t["rows"]) + [""]
+    source = f"Made by `scripts/results.py tables` from [{os.path.basename(path)}](../{path}), which holds the host, the day, the commit, the command and notes."
+    return "\n".join(lines) + "\n" + textwrap.fill(source, 96, break_on_hyphens=False, break_long_words=False) + "\n"
+
+
 def tables_main(argv):
     index = []
     for path in sorted(glob.glob(os.path.join(ROOT, "results", "**", "*.json"), recursive=True)):
@@ -162,6 +174,11 @@ def tables_main(argv):
     tried = os.path.join(ROOT, "results", "studies", "tried.json")
     if os.path.exists(tried):
         blocks.replace(os.path.join(ROOT, "docs", "what_was_tried.md"), "tried", tried_table(results.load(tried)))
+    for doc in sorted(glob.glob(os.path.join(ROOT, "docs", "*.md"))):
+        try:
+            blocks.replace(doc, "data-table", data_table(blocks.argument(doc, "data-table")))
+        except blocks.MissingBlock:
+            pass
     readme = os.path.join(ROOT, "README.md")
     blocks.replace(readme, "results-table", readme_table(blocks.argument(readme, "results-table")))
 
