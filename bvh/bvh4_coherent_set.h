@@ -121,17 +121,19 @@ inline void load_set(const RayArrays& rays, size_t i0, size_t n, CoherentSet& s)
 }
 
 /// The traceable rays of each direction octant (bit a of the octant: the
-/// reciprocal direction on axis a is negative).
+/// reciprocal direction on axis a is negative), packet by packet from the
+/// lanes' sign masks.
 inline void rays_by_octant(const CoherentSet& s, uint64_t (&by_octant)[8]) {
   std::fill(by_octant, by_octant + 8, uint64_t(0));
   for (uint32_t j = 0; j < s.packets; ++j) {
     const uint32_t lanes = lanes_of_packet(s.traceable, j);
+    if (lanes == 0) continue;
     uint32_t negative[3];
     for (int a = 0; a < 3; ++a) negative[a] = lane_mask(s.packet[j].rdir[a] < vfloatK(0.0f));
-    for (uint32_t m = lanes; m; m &= m - 1) {
-      const uint32_t i = std::countr_zero(m);
-      const uint32_t octant = (negative[0] >> i & 1) | (negative[1] >> i & 1) << 1 | (negative[2] >> i & 1) << 2;
-      by_octant[octant] |= uint64_t(1) << (j * kLanes + i);
+    for (uint32_t octant = 0; octant < 8; ++octant) {
+      uint32_t in = lanes;
+      for (int a = 0; a < 3; ++a) in &= (octant >> a & 1) ? negative[a] : ~negative[a];
+      by_octant[octant] |= uint64_t(in) << (j * kLanes);
     }
   }
 }
