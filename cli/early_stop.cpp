@@ -23,9 +23,7 @@ bool EarlyStop::operator()(const Accumulation& acc) {
     const ImageErrorEstimate e = estimate_image_error(acc);
     met_target_ = e.available && e.relative_rmse <= target_error_;
   }
-  if (time_limit_ > 0.0) {
-    out_of_time_ = 2.0 * clock_(acc) > time_limit_;
-  }
+  if (time_limit_ > 0.0) { out_of_time_ = 2.0 * clock_(acc) > time_limit_; }
   return met_target_ || out_of_time_;
 }
 

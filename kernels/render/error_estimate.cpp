@@ -25,7 +25,6 @@ uint32_t power_of_two_below(uint32_t n) {
   return p;
 }
 
-
 /// The ratio r = D(P) / D(P/2) of the accumulated pixels: the median over the
 /// image's 8x8 blocks (aligned to the image's origin, clipped to the area) of
 /// each block's ratio of sums, over the blocks where both sums are positive.

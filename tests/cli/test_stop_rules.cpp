@@ -108,8 +108,8 @@ TEST(StopRules, TargetErrorStopsAtAPowerOfTwoWithTheImageOfThatCount) {
   const double e16 = estimated_relative_rmse(at16.out), e64 = estimated_relative_rmse(at64.out);
   ASSERT_GT(e16, e64) << "the estimate does not fall from 16 to 64 samples";
   const double target = 0.5 * (e16 + e64);
-  test::ProcessResult r = run(dir, small_render("t.pfm", {"-s", "1024", "--target-error", std::to_string(target),
-                                                          "--error-image", "err.pfm"}));
+  test::ProcessResult r = run(
+      dir, small_render("t.pfm", {"-s", "1024", "--target-error", std::to_string(target), "--error-image", "err.pfm"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const long n = stopped_at(r.out);
   EXPECT_TRUE(is_power_of_two(n)) << r.out;
@@ -172,8 +172,7 @@ TEST(StopRules, TargetErrorResumedFromACheckpointStopsWhereAnUninterruptedRender
   ASSERT_TRUE(std::filesystem::exists(dir.path() / "state.ckpt"));
   test::ProcessResult resumed = run(dir, small_render("resumed.pfm", flags));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  EXPECT_NE(resumed.out.find("Resuming from state.ckpt (4 samples per pixel done)"), std::string::npos)
-      << resumed.out;
+  EXPECT_NE(resumed.out.find("Resuming from state.ckpt (4 samples per pixel done)"), std::string::npos) << resumed.out;
   EXPECT_EQ(stopped_at(resumed.out), n) << resumed.out;
   EXPECT_EQ(test::file_bytes(dir.path() / "resumed.pfm"), test::file_bytes(dir.path() / "whole.pfm"));
 }
