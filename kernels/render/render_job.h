@@ -57,6 +57,15 @@ struct RenderOutput {
   /// Pass-based engines: samples per pixel completed (fewer than asked when
   /// stop_at_power_of_two stopped the render).
   uint32_t samples_done = 0;
+
+  RenderOutput();
+  // Defined once (render_job.cpp), as Film's are: the engines of every
+  // instruction-set level make and drop outputs, and their members are no level's own.
+  RenderOutput(const RenderOutput&);
+  RenderOutput(RenderOutput&&) noexcept;
+  RenderOutput& operator=(const RenderOutput&);
+  RenderOutput& operator=(RenderOutput&&) noexcept;
+  ~RenderOutput();
 };
 
 }  // namespace pt
