@@ -128,6 +128,21 @@ TEST(StopRules, TargetErrorStopsAtAPowerOfTwoWithTheImageOfThatCount) {
   for (const float3& e : err) ASSERT_TRUE(std::isfinite(e.x) && e.x >= 0.0f && e.x == e.y && e.y == e.z);
 }
 
+// With adaptive sampling the sample-rate image is the one of -s N as well
+// (samples taken over N, not over the -s the render was allowed).
+TEST(StopRules, TargetErrorWithAdaptiveSamplingWritesTheRateImageOfThatCount) {
+  test::ScratchDir dir;
+  test::ProcessResult r = run(dir, small_render("t.png", {"-s", "1024", "-a", "4", "0.05", "--target-error", "0.08"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const long n = stopped_at(r.out);
+  ASSERT_TRUE(is_power_of_two(n)) << r.out;
+  ASSERT_LT(n, 1024) << r.out;
+  test::ProcessResult same = run(dir, small_render("s.png", {"-s", std::to_string(n), "-a", "4", "0.05"}));
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(test::file_bytes(dir.path() / "t.png"), test::file_bytes(dir.path() / "s.png"));
+  EXPECT_EQ(test::file_bytes(dir.path() / "t_rate.png"), test::file_bytes(dir.path() / "s_rate.png"));
+}
+
 TEST(StopRules, TargetNotMetWithinSamplesIsAWarningAndTheImageOfSamples) {
   test::ScratchDir dir;
   test::ProcessResult r = run(dir, small_render("t.png", {"-s", "8", "--target-error", "1e-9"}));
