@@ -23,6 +23,7 @@ namespace {
 
 constexpr int kMaxDimension = 16384;
 constexpr int64_t kMaxPixels = int64_t(1) << 27;
+constexpr int kStopEarlyMaxSamples = 1 << 16;  ///< -s when --target-error or --time come without it
 constexpr std::array<const char*, 3> kEngines = {"reference", "wavefront", "megakernel"};  // order of Engine
 constexpr std::array<const char*, 3> kAccels = {"bvh4", "bvh2", "none"};                   // order of AccelChoice
 constexpr std::array<const char*, 4> kBounceModes = {"accumulate", "only-m", "direct", "indirect"};
@@ -36,7 +37,7 @@ constexpr std::array<const char*, 2> kExrPixels = {"float", "half"};            
 struct RawValues {
   std::string samples, light_samples, threads, max_depth, leaf_size, seed, rr, checkpoint_every, presplit;
   std::string engine, bvh, bounces, direct, sampler, rr_mode, isa, lens_radius, focal_distance, tile, shard, trace;
-  std::string exr_pixel;
+  std::string exr_pixel, target_error, time_limit;
   std::vector<std::string> resolution, adaptive, region;
   bool hemisphere = false, normals = false, cs184 = false, list_isa = false, serve = false;
   std::optional<std::string> serve_port;  ///< the PORT after --serve, if one was given
@@ -122,6 +123,13 @@ void Converter::convert(const RawValues& raw) {
     }
   }
   number(
+      "--target-error", "target relative RMSE", raw.target_error, "a positive number (e.g. 0.01 for 1%)",
+      [](double v) { return v > 0.0 && v <= 1e30; }, o_.target_error);
+  number(
+      "--time", "time limit", raw.time_limit, "a positive number of seconds",
+      [](double v) { return v > 0.0 && v <= 1e9; }, o_.time_limit);
+  if (o_.stops_early() && app_.count("-s") == 0) s.samples_per_pixel = kStopEarlyMaxSamples;
+  number(
       "--checkpoint-every", "checkpoint interval", raw.checkpoint_every, "a positive number of seconds",
       [](double v) { return v > 0.0; }, o_.checkpoint_every);
   choice("--engine", "engine", raw.engine, kEngines, o_.engine);
@@ -169,6 +177,9 @@ std::string validate_live(const Options& o) {
                       : !o.checkpoint_file.empty()       ? "--checkpoint"
                       : !o.convergence_csv.empty()       ? "--convergence-csv"
                       : !o.variance_file.empty()         ? "--variance"
+                      : !o.error_image.empty()           ? "--error-image"
+                      : o.target_error > 0.0             ? "--target-error"
+                      : o.time_limit > 0.0               ? "--time"
                       : s.region                         ? "-p"
                       : o.stats                          ? "--stats"
                       : o.memory                         ? "--memory"
@@ -222,6 +233,16 @@ std::string validate(const Options& o) {
   if (o.shard_count > 0 && !o.checkpoint_file.empty())
     return "--shard renders its share in one go; rerun a shard that failed instead of --checkpoint";
   if (o.serve_port >= 0) return validate_live(o);
+  const char* estimate_flag = o.target_error > 0.0     ? "--target-error"
+                              : o.time_limit > 0.0     ? "--time"
+                              : !o.error_image.empty() ? "--error-image"
+                                                       : nullptr;
+  if (estimate_flag && o.engine == Engine::kReference)
+    return std::string(estimate_flag) + " needs a pass-based engine (--engine wavefront or megakernel)";
+  if (estimate_flag && o.shard_count > 0)
+    return std::string(estimate_flag) + " needs the whole image in one process; not with --shard";
+  if (o.stops_early() && !o.convergence_csv.empty())
+    return std::string(estimate_flag) + " and --convergence-csv do not go together (it renders every power of two)";
   return {};
 }
 
@@ -352,6 +373,17 @@ void add_options(CLI::App& app, Options& o, RawValues& raw) {
        "Save the accumulated state to FILE periodically and on Ctrl-C; resume from it if it exists");
   valued("--checkpoint-every", raw.checkpoint_every, "Seconds between checkpoint saves; 60", "NUMBER");
   path("--variance", o.variance_file, "Also write each pixel's variance of its mean (grey PFM)");
+  path("--error-image", o.error_image,
+       "Also write each pixel's estimated RMSE against the converged image (grey PFM; pass-based engines, "
+       "4 samples per pixel or more)");
+  valued("--target-error", raw.target_error,
+         "Render until the estimated relative RMSE is at most E, stopping only at power-of-two sample counts "
+         "(-s, 65536 unless given, is the most it takes)",
+         "E");
+  valued("--time", raw.time_limit,
+         "Render for at most about T seconds, stopping at the last power-of-two sample count that fits "
+         "(-s, 65536 unless given, is the most it takes)",
+         "T");
   path("--reference", o.reference_image, "Converged reference image (PFM) for --convergence-csv");
   path("--convergence-csv", o.convergence_csv,
        "Render 1, 2, 4, ... spp up to -s and log time, rays and error against --reference as CSV");

@@ -19,7 +19,7 @@ int run_convergence(const Options& o, const EngineRunner& engine, const std::ato
                      " but the render is " + std::to_string(o.settings.width) + "x" +
                      std::to_string(o.settings.height));
   std::ostringstream csv;
-  csv << "method,spp,seconds,rays,rmse,rel_mse,mean_bias\n";
+  csv << "method,spp,seconds,rays,rmse,rel_mse,mean_bias,est_rmse,est_rel_rmse\n";
   RenderSettings rs = o.settings;
   Accumulation acc;
   bool resumable = false;
@@ -47,9 +47,14 @@ int run_convergence(const Options& o, const EngineRunner& engine, const std::ato
       rays = out.stats.rays();
     }
     ErrorMetrics m = compare_images(out.film.radiance, reference);
-    char row[256];
-    std::snprintf(row, sizeof row, "%s,%d,%.6f,%llu,%.9g,%.9g,%.9g\n", o.label.c_str(), spp, seconds,
-                  static_cast<unsigned long long>(rays), m.rmse, m.rel_mse, m.mean_bias);
+    // The render's own estimate (empty fields where it has none: the reference
+    // engine, fewer than 4 samples per pixel).
+    char estimate[64] = ",";
+    if (out.error.available)
+      std::snprintf(estimate, sizeof estimate, "%.9g,%.9g", out.error.rmse, out.error.relative_rmse);
+    char row[320];
+    std::snprintf(row, sizeof row, "%s,%d,%.6f,%llu,%.9g,%.9g,%.9g,%s\n", o.label.c_str(), spp, seconds,
+                  static_cast<unsigned long long>(rays), m.rmse, m.rel_mse, m.mean_bias, estimate);
     csv << row;
     if (!o.quiet) std::printf("%s", row);
     if (spp == max_spp) break;

@@ -29,6 +29,7 @@
 #include "io/tile_set.h"
 #include "io/scene_error.h"
 #include "convergence_run.h"
+#include "early_stop.h"
 #include "memory_report.h"
 #include "distributed/mpi_job.h"
 #include "progress_bar.h"
@@ -101,6 +102,16 @@ void add_test_interrupt_hook(RenderControl& control) {
   };
 }
 
+/// The test hook PT_TEST_SECONDS_PER_SAMPLE=S: --time reads a clock on which
+/// every sample per pixel takes S seconds, so that tests know where --time
+/// stops on any machine. Unset, or not a positive number: the real clock.
+cli::EarlyStop::Clock test_clock() {
+  const char* value = std::getenv("PT_TEST_SECONDS_PER_SAMPLE");
+  const double per_sample = value ? std::strtod(value, nullptr) : 0.0;
+  if (!(per_sample > 0.0)) return {};
+  return [per_sample](const Accumulation& acc) { return per_sample * acc.samples_done; };
+}
+
 std::filesystem::path default_output(const cli::Options& o, const Scene& scene) {
   return std::filesystem::path(scene.name).stem().string() + ".png";
 }
@@ -152,6 +163,11 @@ void prepare(const cli::Options& o, const dist::MpiJob& job, Prepared& p) {
   }
   if (speaks) std::printf("%s\n", scene_summary(p.loaded).c_str());
   const bool tiled = o.shard_count > 0 || job.size() > 1;
+  if (tiled && (o.stops_early() || !o.error_image.empty()))
+    throw InputError(std::string(o.target_error > 0.0 ? "--target-error"
+                                 : o.time_limit > 0.0 ? "--time"
+                                                      : "--error-image") +
+                     " needs the whole image in one process; not with --shard or mpirun");
   if (tiled && (o.stats || o.memory || !o.convergence_csv.empty()))
     throw InputError(std::string(o.stats    ? "--stats"
                                  : o.memory ? "--memory"
@@ -214,6 +230,9 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
   add_test_interrupt_hook(control);
   cli::ProgressBar bar(!o.quiet);
   control.progress = [&bar](double f) { bar.update(f); };
+  control.pixel_error = !o.error_image.empty();
+  cli::EarlyStop early_stop(o.target_error, o.time_limit, test_clock());
+  if (o.stops_early()) control.stop_at_power_of_two = early_stop.rule();
   cli::EngineRunner::QueueBytes queues;
   RenderOutput out = p.engine->render(rs, control, &queues);
   bar.finish();
@@ -225,10 +244,15 @@ int render_in_one_process(const cli::Options& o, Prepared& p) {
                  p.checkpoint.path.empty() ? "" : (" and the state to " + p.checkpoint.path.string()).c_str());
     return 128 + (g_signal ? g_signal : SIGINT);
   }
-  cli::write_outputs(o, p.output, out.film, p.camera);
+  cli::write_outputs(o, p.output, out.film, p.camera, out.pixel_error);
   if (!p.checkpoint.path.empty()) std::filesystem::remove(p.checkpoint.path);  // complete: nothing to resume
+  const uint32_t max_samples = static_cast<uint32_t>(rs.samples_per_pixel);
+  if (std::string warning = early_stop.missed_target_warning(out, max_samples); !warning.empty())
+    std::fprintf(stderr, "%s\n", warning.c_str());
   if (!o.quiet) {
+    if (o.stops_early()) std::printf("%s\n", early_stop.stop_line(out).c_str());
     cli::print_report(o, out.stats);
+    std::printf("%s\n", cli::error_line(out.error, p.engine->pass_based()).c_str());
     std::printf("Wrote %s%s\n", p.output.c_str(),
                 rs.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");
   }
@@ -274,6 +298,7 @@ int render_across_ranks(const cli::Options& o, const dist::MpiJob& job, Prepared
   if (!p.checkpoint.path.empty()) std::filesystem::remove(p.checkpoint.path);
   if (!o.quiet) {
     cli::print_report(o, stats, job.size(), set.stats.seconds);
+    std::printf("estimated error: not available (tiles keep no per-pixel sums across ranks)\n");
     if (resumed) std::printf("Resumed %zu of %u tiles from %s\n", resumed, grid.count(), p.checkpoint.path.c_str());
     std::printf("Wrote %s%s\n", p.output.c_str(),
                 o.settings.adaptive() ? (" and " + rate_image_path(p.output).string()).c_str() : "");

@@ -24,14 +24,25 @@ void check_outputs_writable(const Options& o, const std::filesystem::path& outpu
   if (o.settings.adaptive()) check_writable(rate_image_path(output));
   if (!o.write_camera_file.empty()) check_writable(o.write_camera_file);
   if (!o.variance_file.empty()) check_writable(o.variance_file);
+  if (!o.error_image.empty()) check_writable(o.error_image);
 }
 
-void write_outputs(const Options& o, const std::filesystem::path& output, const Film& film, const Camera& camera) {
+void write_outputs(const Options& o, const std::filesystem::path& output, const Film& film, const Camera& camera,
+                   const std::vector<float>& pixel_error) {
   const RenderSettings& rs = o.settings;
   write_image(output, film, png_quantization(o), o.exr_pixel);
   if (rs.adaptive()) write_sample_rate_image(rate_image_path(output), film);
   if (!o.variance_file.empty()) write_variance_image(o.variance_file, film);
+  if (!o.error_image.empty()) write_grey_pfm(o.error_image, film.width, film.height, pixel_error);
   if (!o.write_camera_file.empty()) write_camera_settings_file(o.write_camera_file, camera, rs.width, rs.height);
+}
+
+std::string error_line(const ImageErrorEstimate& e, bool pass_based) {
+  char line[160];
+  if (!pass_based) return "estimated error: not available (the reference engine keeps no per-pixel sums)";
+  if (!e.available) return "estimated error: not available (it needs 4 samples per pixel or more)";
+  std::snprintf(line, sizeof line, "estimated error: relative RMSE %.4g, RMSE %.4g", e.relative_rmse, e.rmse);
+  return line;
 }
 
 void print_report(const Options& o, const RenderStats& st, int ranks, double rank_seconds) {

@@ -1,4 +1,4 @@
-// Checkpoint format: "PTCHECK1", fingerprint length + text, samples_done,
+// Checkpoint format: "PTCHECK2", fingerprint length + text, samples_done,
 // pixel count, the PixelAccumulator array, and an FNV-1a checksum of all of it.
 #include "checkpoint.h"
 
@@ -15,7 +15,8 @@
 namespace pt {
 namespace {
 
-constexpr char kMagic[8] = {'P', 'T', 'C', 'H', 'E', 'C', 'K', '1'};
+// 2: PixelAccumulator keeps its means at powers of two (88 bytes, 48 in version 1).
+constexpr char kMagic[8] = {'P', 'T', 'C', 'H', 'E', 'C', 'K', '2'};
 
 }  // namespace
 
@@ -89,6 +90,8 @@ std::optional<Accumulation> load_checkpoint(const std::filesystem::path& path, c
   for (const PixelAccumulator& p : acc.pixels) {
     bool finite = std::isfinite(p.sum_r) && std::isfinite(p.sum_g) && std::isfinite(p.sum_b) &&
                   std::isfinite(p.moments.s1) && std::isfinite(p.moments.s2);
+    for (const auto& rgb : p.at_powers)
+      for (float v : rgb) finite = finite && std::isfinite(v);
     if (!finite || p.samples > max_samples || p.converged > 1 || p.moments.s2 < 0.0)
       throw corrupt("pixel values that no render of these settings produces");
   }

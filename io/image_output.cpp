@@ -98,6 +98,12 @@ void write_variance_image(const std::filesystem::path& path, const Film& film) {
   write_file_atomically(path, encode_pfm(film.width, film.height, grey));
 }
 
+void write_grey_pfm(const std::filesystem::path& path, int width, int height, const std::vector<float>& values) {
+  std::vector<float3> grey(values.size());
+  for (size_t i = 0; i < grey.size(); ++i) grey[i] = float3(values[i]);
+  write_file_atomically(path, encode_pfm(width, height, grey));
+}
+
 std::vector<float3> read_pfm(const std::filesystem::path& path, int& width, int& height) {
   // A PFM of the largest image this program writes, and then some.
   std::string bytes = read_regular_file(path, "PFM image", uint64_t(1) << 36);

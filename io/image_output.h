@@ -46,6 +46,8 @@ std::string encode_image(const std::filesystem::path& path, const Film& film, Pn
 std::string encode_sample_rate_image(const Film& film);
 /// Each pixel's variance of its mean illuminance as a grey PFM (for references).
 void write_variance_image(const std::filesystem::path& path, const Film& film);
+/// A grey PFM of `values` (width * height, row 0 at the top), e.g. each pixel's estimated RMSE.
+void write_grey_pfm(const std::filesystem::path& path, int width, int height, const std::vector<float>& values);
 
 /// Linear RGB image file contents (exposed for tests).
 std::string encode_png_rgb8(int width, int height, const std::vector<uint8_t>& rgb);

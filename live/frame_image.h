@@ -61,6 +61,8 @@ struct FrameInfo {
   double seconds = 0;         ///< wall time since the view last changed
   double render_seconds = 0;  ///< time spent rendering this view
   uint64_t rays = 0;          ///< rays traced for this view
+  /// The render's own estimate of its relative RMSE (kernels/render/error_estimate.h); < 0: none yet
+  double estimated_relative_rmse = -1;
   Display display = Display::kImage;
   Camera camera;  ///< the view's camera at the view's size (the overlays project with it)
 };

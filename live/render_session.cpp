@@ -36,7 +36,8 @@ struct RenderSession::Progress {
   bool complete = false;
   uint64_t rays = 0;
   double render_seconds = 0;
-  Clock::time_point started;  ///< when the view changed to this version
+  double estimated_relative_rmse = -1;  ///< of the accumulated image; < 0: none (under 4 samples)
+  Clock::time_point started;            ///< when the view changed to this version
 };
 
 /// What the thread does next.
@@ -317,6 +318,7 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   }
   if (!reached.pixels.empty()) p.acc = std::move(reached);
   p.film = std::make_shared<const Film>(std::move(out.film));
+  p.estimated_relative_rmse = out.error.available ? out.error.relative_rmse : -1.0;
   p.done = first + step.samples;
   p.rays += out.stats.rays();
   p.render_seconds += seconds;
@@ -347,6 +349,7 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   info.seconds = std::chrono::duration<double>(Clock::now() - p.started).count();
   info.render_seconds = p.render_seconds;
   info.rays = p.rays;
+  info.estimated_relative_rmse = p.estimated_relative_rmse;
   info.display = vs.display;
   info.camera = resolve_camera(step.view.camera, vs.width, vs.height);
   auto frame = std::make_shared<const Frame>(info, p.film, config_.quantization);

@@ -94,6 +94,8 @@ nlohmann::json frame_json(const FrameInfo& f, uint64_t settings_version) {
           {"render_seconds", f.render_seconds},
           {"rays", f.rays},
           {"mrays", f.render_seconds > 0 ? double(f.rays) / f.render_seconds / 1e6 : 0.0},
+          {"estimated_relative_rmse",
+           f.estimated_relative_rmse >= 0 ? nlohmann::json(f.estimated_relative_rmse) : nlohmann::json(nullptr)},
           {"display", kDisplayNames[size_t(f.display)]},
           {"camera",
            {{"position", v(c.position)},

@@ -32,6 +32,25 @@ Film film_from(const Accumulation& acc, const RenderSettings& rs, const RenderCo
   return film;
 }
 
+/// Each pixel's estimated RMSE laid out as film_from lays out the film.
+std::vector<float> pixel_error_film(const Accumulation& acc, const RenderSettings& rs, const RenderControl& control) {
+  const std::vector<float> area_error = estimate_pixel_error(acc);
+  const Region& a = acc.area;
+  if (control.crop_film) return area_error;
+  std::vector<float> out(size_t(rs.width) * rs.height, 0.0f);
+  for (int y = a.y; y < a.y + a.height; ++y)
+    for (int x = a.x; x < a.x + a.width; ++x)
+      out[size_t(y) * rs.width + x] = area_error[size_t(y - a.y) * a.width + (x - a.x)];
+  return out;
+}
+
+/// The smallest power of two above n.
+uint32_t next_power_of_two_above(uint32_t n) {
+  uint32_t p = 1;
+  while (p <= n) p *= 2;
+  return p;
+}
+
 /// Pixels that still take samples after `acc.samples_done` samples.
 std::vector<uint32_t> active_pixels(const Accumulation& acc, const RenderSettings& rs) {
   std::vector<uint32_t> active;
@@ -65,9 +84,11 @@ RenderOutput render_passes(const RenderSettings& rs, size_t paths_per_chunk, con
   std::atomic<uint64_t> samples_finished{0};
   tbb::enumerable_thread_specific<RenderStats> thread_stats;
   tbb::task_arena arena(static_cast<int>(pass_workers(rs)));
+  bool stopped_at_target = false;
 
   while (uint32_t len = pass_length(rs, acc.samples_done)) {
     if (active.empty() || control.cancelled()) break;
+    if (control.stop_at_power_of_two) len = std::min(len, next_power_of_two_above(acc.samples_done) - acc.samples_done);
     // A pass interrupted before a checkpoint left some pixels finished; render the rest.
     std::vector<uint32_t> todo;
     for (uint32_t p : active)
@@ -99,12 +120,21 @@ RenderOutput render_passes(const RenderSettings& rs, size_t paths_per_chunk, con
       });
     }
     if (control.on_pass) control.on_pass(acc);
+    const uint32_t done = acc.samples_done;
+    if (control.stop_at_power_of_two && (done & (done - 1)) == 0 && control.stop_at_power_of_two(acc)) {
+      stopped_at_target = true;
+      break;
+    }
   }
   if (control.cancelled() && control.on_interrupt) control.on_interrupt(acc);
   RenderOutput out;
   for (const RenderStats& s : thread_stats) out.stats += s;
   out.film = film_from(acc, rs, control);
   out.cancelled = control.cancelled();
+  out.samples_done = acc.samples_done;
+  if (stopped_at_target) out.film.max_samples = out.samples_done;  // stopped early: the film -s samples_done makes
+  out.error = estimate_image_error(acc);
+  if (control.pixel_error) out.pixel_error = pixel_error_film(acc, rs, control);
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

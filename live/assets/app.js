@@ -68,6 +68,9 @@
     while (recentFrames.length && now - recentFrames[0] > 1000) recentFrames.shift();
     const preview = meta.width < meta.view_width ? ' (1/' + Math.round(meta.view_width / meta.width) + ' res)' : '';
     $('stat-samples').textContent = meta.samples + ' / ' + meta.target + ' spp' + preview + (meta.complete ? ' done' : '');
+    // The render's own estimate of its relative RMSE against the converged image (from 4 spp).
+    $('stat-error').textContent = meta.estimated_relative_rmse === null ? ''
+      : 'error ~' + (100 * meta.estimated_relative_rmse).toPrecision(2) + '%';
     $('stat-rays').textContent = meta.mrays.toFixed(1) + ' Mrays/s';
     $('stat-time').textContent = meta.seconds.toFixed(2) + ' s';
     $('stat-isa').textContent = live.state ? live.state.isa + ', ' + live.state.threads + ' threads' : '';

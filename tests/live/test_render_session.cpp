@@ -98,6 +98,9 @@ TEST_P(StillView, AtNSamplesIsTheEnginesRenderOfNSamplesBitForBit) {
   ASSERT_TRUE(f);
   RenderOutput r = engine_render(session);
   expect_frame_is_render(*f, r, *std::max_element(r.film.samples.begin(), r.film.samples.end()));
+  // The frame carries the render's own error estimate, the one render of 13 samples makes.
+  ASSERT_TRUE(r.error.available);
+  EXPECT_EQ(f->info.estimated_relative_rmse, r.error.relative_rmse);
   // The Render job writes the same film: its floats.
   test::ScratchDir dir;
   ASSERT_EQ(session.start_job(dir / "view.pfm"), "");

@@ -61,7 +61,7 @@ for scene in $scenes; do
   [ -f "$file" ] || { echo "run_all: $file not found" >&2; exit 1; }
   ref=$(bash "$here/make_reference.sh" "$file" "$width" "$height" "$depth" "$ref_spp" 1000003 "$threads")
   combined="$out/convergence_$scene.csv"
-  echo "family,method,spp,seconds,rays,rmse,rel_mse,mean_bias" > "$combined.tmp"
+  echo "family,method,spp,seconds,rays,rmse,rel_mse,mean_bias,est_rmse,est_rel_rmse" > "$combined.tmp"
   while read -r family label args; do
     read -ra extra <<< "$args"
     common=(-t "$threads" -m "$depth" -l 1 -r "$width" "$height" -s "$max_spp" -q)
