@@ -6,7 +6,8 @@
 #     instruction-set level in one binary, with Open MPI, so the mpirun tests
 #     run; ctest once per level, each level forced through PT_ISA; a level this
 #     CPU cannot run is reported as skipped. The tests labelled `browser` (the
-#     live view in headless Chromium) run once after the levels, not per level.
+#     live view in headless Chromium) or `once` (long tests of code that is
+#     the same at every level) run once after the levels, at the widest.
 #  2. AddressSanitizer + UndefinedBehaviorSanitizer build with Clang and Ninja
 #     (build-asan/, -O1, -march=native: the CPU's widest level and the native
 #     build's path; without MPI: the build everyone without Open MPI gets):
@@ -81,12 +82,15 @@ while read -r level lanes _ support _; do
     continue
   fi
   echo "run_tests: Release tests at level $level ($lanes lanes)"
-  PT_ISA=$level run_ctest build "build/ctest_$level.log" -LE browser
+  PT_ISA=$level run_ctest build "build/ctest_$level.log" -LE 'browser|once'
   summary+=("release $level ($lanes lanes): $(ctest_counts "build/ctest_$level.log")")
 done < <(./build/cli/pathtracer --list-isa)
 echo "run_tests: browser tests (the widest level)"
 run_ctest build build/ctest_browser.log -L browser -V  # -V: its figures (first frame) and any skip reason in the log
 summary+=("browser (headless Chromium): $(ctest_counts build/ctest_browser.log)")
+echo "run_tests: tests labelled once (the widest level)"
+run_ctest build build/ctest_once.log -L once
+summary+=("once (the widest level): $(ctest_counts build/ctest_once.log)")
 
 # ------------------------------------------------------------- 2. Sanitizers
 if [ "${PT_SKIP_SANITIZERS:-0}" != 1 ]; then
