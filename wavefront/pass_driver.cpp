@@ -133,8 +133,10 @@ RenderOutput render_passes(const RenderSettings& rs, size_t paths_per_chunk, con
   out.cancelled = control.cancelled();
   out.samples_done = acc.samples_done;
   if (stopped_at_target) out.film.max_samples = out.samples_done;  // stopped early: the film -s samples_done makes
-  out.error = estimate_image_error(acc);
-  if (control.pixel_error) out.pixel_error = pixel_error_film(acc, rs, control);
+  if (!out.cancelled) {  // a cancelled render's film is partial, and whoever cancelled it wants it back at once
+    out.error = estimate_image_error(acc);
+    if (control.pixel_error) out.pixel_error = pixel_error_film(acc, rs, control);
+  }
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
