@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <vector>
 
@@ -44,13 +45,6 @@ std::vector<float> pixel_error_film(const Accumulation& acc, const RenderSetting
   return out;
 }
 
-/// The smallest power of two above n.
-uint32_t next_power_of_two_above(uint32_t n) {
-  uint32_t p = 1;
-  while (p <= n) p *= 2;
-  return p;
-}
-
 /// Pixels that still take samples after `acc.samples_done` samples.
 std::vector<uint32_t> active_pixels(const Accumulation& acc, const RenderSettings& rs) {
   std::vector<uint32_t> active;
@@ -88,7 +82,7 @@ RenderOutput render_passes(const RenderSettings& rs, size_t paths_per_chunk, con
 
   while (uint32_t len = pass_length(rs, acc.samples_done)) {
     if (active.empty() || control.cancelled()) break;
-    if (control.stop_at_power_of_two) len = std::min(len, next_power_of_two_above(acc.samples_done) - acc.samples_done);
+    if (control.stop_at_power_of_two) len = std::min(len, std::bit_ceil(acc.samples_done + 1) - acc.samples_done);
     // A pass interrupted before a checkpoint left some pixels finished; render the rest.
     std::vector<uint32_t> todo;
     for (uint32_t p : active)

@@ -2,6 +2,7 @@
 #include "kernels/render/error_estimate.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace pt {
@@ -16,13 +17,6 @@ double squared_change(const float (&a)[3], const float (&b)[3]) {
     s += d * d;
   }
   return s / 3.0;
-}
-
-/// The largest power of two <= n (n > 0).
-uint32_t power_of_two_below(uint32_t n) {
-  uint32_t p = 1;
-  while (p <= n / 2) p *= 2;
-  return p;
 }
 
 /// The ratio r = D(P) / D(P/2) of the accumulated pixels: the median over the
@@ -91,7 +85,7 @@ ImageErrorEstimate estimate_image_error(const Accumulation& acc, double scale) {
   e.available = true;
   e.rmse = scale * std::sqrt(half / n * remaining_error_factor(e.step_ratio));
   e.relative_rmse = value > 0.0 ? e.rmse / (value / n) : 0.0;
-  e.at_samples = power_of_two_below(fewest);
+  e.at_samples = std::bit_floor(fewest);
   return e;
 }
 
