@@ -76,7 +76,8 @@ void keep_tangents(ViewCamera& v, const Camera& c, int width, int height) {
 NavLimits nav_limits(const BBox& b) {
   float diagonal = b.empty() ? 1.0f : length(b.extent());
   if (!(diagonal > 0.0f) || !std::isfinite(diagonal)) diagonal = 1.0f;
-  return {1e-3f * diagonal, 100.0f * diagonal};
+  const float3 centre = b.empty() || !std::isfinite(length(b.center())) ? float3{} : b.center();
+  return {1e-3f * diagonal, 100.0f * diagonal, centre, 100.0f * diagonal};
 }
 
 ViewCamera view_from_camera(const Camera& c, int width, int height, float3 centre, const NavLimits& limits) {
@@ -103,13 +104,19 @@ ViewCamera orbit(const ViewCamera& v, double dx, double dy, int width, int heigh
   return o;
 }
 
-ViewCamera pan(const ViewCamera& v, double dx, double dy, float tan_half_vfov, int height) {
+ViewCamera pan(const ViewCamera& v, double dx, double dy, float tan_half_vfov, int height, const NavLimits& limits) {
   ViewCamera o = v;
   double scale = 2.0 * double(v.r) * tan_half_vfov / height;  // world units per pixel at the target's depth
   D3 sx = column(v, 0), sy = column(v, 1);
   D3 move{-dx * scale * sx.x + dy * scale * sy.x, -dx * scale * sx.y + dy * scale * sy.y,
           -dx * scale * sx.z + dy * scale * sy.z};
-  D3 p = d3(v.position), t = d3(v.target);
+  D3 p = d3(v.position), t = d3(v.target), c = d3(limits.centre);
+  D3 away{t.x + move.x - c.x, t.y + move.y - c.y, t.z + move.z - c.z};  // the moved target from the centre
+  const double far = std::sqrt(away.x * away.x + away.y * away.y + away.z * away.z);
+  if (far > limits.reach) {  // stop at the reach: the target on its sphere, the camera moved as much
+    const double k = limits.reach / far;
+    move = {c.x + away.x * k - t.x, c.y + away.y * k - t.y, c.z + away.z * k - t.z};
+  }
   o.position = f3({p.x + move.x, p.y + move.y, p.z + move.z});
   o.target = f3({t.x + move.x, t.y + move.y, t.z + move.z});
   return o;
@@ -144,6 +151,9 @@ std::string look_at_problem(float3 position, float3 target, const NavLimits& lim
   if (!(r >= limits.min_r && r <= limits.max_r))
     return "position and target must be from " + std::to_string(limits.min_r) + " to " + std::to_string(limits.max_r) +
            " apart, got " + std::to_string(r);
+  if (!(length(target - limits.centre) <= limits.reach))
+    return "the target must lie within " + std::to_string(limits.reach) + " of the scene's centre, got " +
+           std::to_string(length(target - limits.centre));
   const double phi = std::acos(std::clamp(offset.y / r, -1.0, 1.0));
   if (phi < kMinPhi || phi > kPi - kMinPhi)
     return "the camera must not be straight above or below its target (the view keeps +Y up)";

@@ -17,12 +17,17 @@ namespace pt::live {
 /// The live view's camera: the fields `pathtracer -c` reads.
 using ViewCamera = CameraSettingsFile;
 
-/// 8 bytes. How near and how far the camera may zoom to its target.
+/// 24 bytes. How near and how far the camera may zoom to its target, and how far a pan or a placed
+/// camera may take the target from the scene's centre (beyond that, floats lose the view's detail).
 struct NavLimits {
   float min_r = 1e-3f, max_r = 1e3f;
+  float3 centre{};
+  float reach = 1e3f;
 };
+static_assert(sizeof(NavLimits) == 24);
 
-/// 1e-3 and 100 times the diagonal of the scene's bounds (1 for an empty scene).
+/// 1e-3 and 100 times the diagonal of the scene's bounds (1 for an empty scene) from its centre, and a reach
+/// of 100 diagonals.
 NavLimits nav_limits(const BBox& scene_bounds);
 
 /// The view of a resolved camera at width x height, orbiting the point of its
@@ -37,8 +42,9 @@ ViewCamera orbit(const ViewCamera& v, double dx, double dy, int width, int heigh
 
 /// Moves camera and target in the screen plane so that a point at the
 /// target's depth follows the mouse: `tan_half_vfov` is the resolved camera's
-/// and `height` the view's, in pixels (dy grows downwards).
-ViewCamera pan(const ViewCamera& v, double dx, double dy, float tan_half_vfov, int height);
+/// and `height` the view's, in pixels (dy grows downwards). A move that would
+/// take the target beyond the limits' reach stops at it.
+ViewCamera pan(const ViewCamera& v, double dx, double dy, float tan_half_vfov, int height, const NavLimits& limits);
 
 /// Scales the distance to the target by 1.1^steps within the limits.
 ViewCamera zoom(const ViewCamera& v, double steps, const NavLimits& limits);
@@ -49,8 +55,9 @@ ViewCamera zoom(const ViewCamera& v, double steps, const NavLimits& limits);
 ViewCamera look_at(const ViewCamera& v, float3 position, float3 target, const NavLimits& limits);
 
 /// Why look_at cannot place the camera at `position` exactly (closer than
-/// min_r or farther than max_r from `target`, or straight above or below it,
-/// where the +Y basis degenerates), or "".
+/// min_r or farther than max_r from `target`, a target beyond the reach of
+/// the scene's centre, or straight above or below it, where the +Y basis
+/// degenerates), or "".
 std::string look_at_problem(float3 position, float3 target, const NavLimits& limits);
 
 /// `v` with the file's screen fields (aspect, screen_w, screen_h, screen_dist)

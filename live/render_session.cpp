@@ -103,7 +103,7 @@ uint64_t RenderSession::navigate(const NavInput& in) {
   switch (in.kind) {
     case NavInput::Kind::kOrbit: c = orbit(c, in.dx, in.dy, s.width, s.height); break;
     case NavInput::Kind::kPan:
-      c = pan(c, in.dx, in.dy, resolve_camera(c, s.width, s.height).tan_half_vfov, s.height);
+      c = pan(c, in.dx, in.dy, resolve_camera(c, s.width, s.height).tan_half_vfov, s.height, config_.limits);
       break;
     case NavInput::Kind::kZoom: c = zoom(c, in.dx, config_.limits); break;
     case NavInput::Kind::kReset: c = config_.camera; break;

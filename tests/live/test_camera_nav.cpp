@@ -137,7 +137,7 @@ TEST(CameraNav, PanCarriesThePointAtTheTargetsDepthWithTheMouse) {
   const ViewCamera a = orbit(start_view(), 30.0, 20.0, kW, kH);
   const Camera before = resolve_camera(a, kW, kH);
   for (auto [dx, dy] : {std::pair{25.0, -10.0}, std::pair{-3.5, 40.25}, std::pair{160.0, 0.0}}) {
-    const ViewCamera b = pan(a, dx, dy, before.tan_half_vfov, kH);
+    const ViewCamera b = pan(a, dx, dy, before.tan_half_vfov, kH, nav_limits(cornell().bounds));
     const Camera after = resolve_camera(b, kW, kH);
     float px = 0, py = 0;
     ASSERT_TRUE(project_to_pixel(after, kW, kH, a.target, px, py));
@@ -179,6 +179,24 @@ TEST(CameraNav, ProjectionIsTheInverseOfTheCameraRays) {
   EXPECT_FALSE(project_to_pixel(c, kW, kH, c.position + c.to_camera, px, py)) << "behind the camera";
 }
 
+TEST(CameraNav, PansStopAtTheReachOfTheScenesCentreAsAPlacedCameraDoes) {
+  // Two thousand of the largest pans a request makes, all one way: without a bound the target would leave for
+  // 1e11 and the view degenerate; it stops on the sphere of the reach, the camera's offset unchanged.
+  const NavLimits limits = nav_limits(cornell().bounds);
+  const ViewCamera start = orbit(start_view(), 30.0, 20.0, kW, kH);
+  ViewCamera v = start;
+  for (int i = 0; i < 2000; ++i) v = pan(v, 1e5, -1e5, resolve_camera(v, kW, kH).tan_half_vfov, kH, limits);
+  EXPECT_NEAR(length(v.target - limits.centre), limits.reach, 1e-3f * limits.reach);
+  EXPECT_NEAR(length((v.position - v.target) - (start.position - start.target)), 0.0f, 1e-3f * start.r);
+  EXPECT_EQ(look_at_problem(v.position, v.target, limits), "") << "where a pan stops, a camera may be placed";
+  const Camera c = resolve_camera(v, kW, kH);
+  EXPECT_TRUE(std::isfinite(c.position.x) && std::isfinite(c.position.y) && std::isfinite(c.position.z));
+  // Beyond the reach, a placed camera is refused.
+  const float3 beyond = limits.centre + float3(1.01f * limits.reach, 0.0f, 0.0f);
+  EXPECT_NE(look_at_problem(beyond + float3(0.0f, 0.0f, 1.0f), beyond, limits).find("the target must lie within"),
+            std::string::npos);
+}
+
 TEST(CameraNav, TheSavedFileResolvesToTheCameraTheViewRenders) {
   test::ScratchDir dir;
   std::mt19937 rng(11);
@@ -186,7 +204,7 @@ TEST(CameraNav, TheSavedFileResolvesToTheCameraTheViewRenders) {
   ViewCamera v = start_view();
   const NavLimits limits = nav_limits(cornell().bounds);
   for (int i = 0; i < 50; ++i) {
-    v = i % 3 == 0   ? pan(v, px(rng), px(rng), resolve_camera(v, kW, kH).tan_half_vfov, kH)
+    v = i % 3 == 0   ? pan(v, px(rng), px(rng), resolve_camera(v, kW, kH).tan_half_vfov, kH, limits)
         : i % 3 == 1 ? zoom(v, px(rng) / 100.0, limits)
                      : orbit(v, px(rng), px(rng), kW, kH);
     write_camera_settings_file(dir / "cam.txt", v);
