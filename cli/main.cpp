@@ -350,7 +350,7 @@ int run(const cli::Options& o, const dist::MpiJob& job) {
     install_stop_handlers();
     return cli::run_live_view(o, g_cancel);
 #else
-    throw InputError("--serve: this build has no live view (install libcpp-httplib-dev and build again)");
+    throw InputError("--serve: this build has no live view (install libmicrohttpd-dev and build again)");
 #endif
   }
   Prepared p;

@@ -16,7 +16,7 @@ nlohmann::json box_json(const BBox& b) {
   return nlohmann::json::array({b.lower.x, b.lower.y, b.lower.z, b.upper.x, b.upper.y, b.upper.z});
 }
 
-void level(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void level(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"depth"});
   const int depth = int(params.integer("depth", 0, 64));
   Bvh4Level l = bvh4_level(ctx.bvh.bvh(), depth, kMaxBoxes);
@@ -29,7 +29,7 @@ void level(RouteContext& ctx, const httplib::Request& req, httplib::Response& re
 
 /// The walk of the camera ray through point (x, y) of the view (pixels from
 /// the top-left corner; a pixel's centre is at + 0.5), through the lens centre.
-void walk(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void walk(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"x", "y"});
   RenderSession::View v = ctx.session.view();
   const double x = params.number("x", 0, v.settings.width), y = params.number("y", 0, v.settings.height);
@@ -56,9 +56,9 @@ void walk(RouteContext& ctx, const httplib::Request& req, httplib::Response& res
 
 }  // namespace
 
-void add_bvh_routes(httplib::Server& server, RouteContext& ctx) {
-  server.Get("/api/bvh/level", guarded([&ctx](const httplib::Request& q, httplib::Response& r) { level(ctx, q, r); }));
-  server.Get("/api/bvh/walk", guarded([&ctx](const httplib::Request& q, httplib::Response& r) { walk(ctx, q, r); }));
+void add_bvh_routes(HttpServer& server, RouteContext& ctx) {
+  server.get("/api/bvh/level", guarded([&ctx](const Request& q, Response& r) { level(ctx, q, r); }));
+  server.get("/api/bvh/walk", guarded([&ctx](const Request& q, Response& r) { walk(ctx, q, r); }));
 }
 
 }  // namespace pt::live

@@ -1,5 +1,5 @@
 // The shares under one mutex: a few dozen connections, scanned whole when
-// the server is full.
+// the server is full and for the deadlines.
 #include "client_shares.h"
 
 #include <arpa/inet.h>
@@ -45,7 +45,8 @@ void decrement(std::map<std::string, size_t>& counts, const std::string& client)
 
 }  // namespace
 
-ClientShares::Admission ClientShares::admit(const std::string& client, std::function<void()> evict) {
+ClientShares::Admission ClientShares::admit(const std::string& client, const std::string& peer,
+                                            std::function<void()> evict, TimePoint now) {
   std::lock_guard lock(mutex_);
   Admission out;
   const size_t held = count_of(held_, client);
@@ -75,28 +76,60 @@ ClientShares::Admission ClientShares::admit(const std::string& client, std::func
       return out;
     }
     out.evicted_client = taken->second.client;
-    if (taken->second.evict) taken->second.evict();
-    decrement(held_, taken->second.client);
-    connections_.erase(taken);
+    drop(taken);
   }
   out.id = next_id_++;
-  connections_.emplace(out.id, Connection{client, Phase::kIdle, std::move(evict)});
+  connections_.emplace(out.id, Connection{client, peer, Phase::kIdle, now, std::move(evict)});
   out.held = ++held_[client];
   return out;
 }
 
-void ClientShares::set_phase(uint64_t id, Phase phase) {
+void ClientShares::drop(std::map<uint64_t, Connection>::iterator it) {
+  if (it->second.evict) it->second.evict();
+  decrement(held_, it->second.client);
+  connections_.erase(it);
+}
+
+void ClientShares::set_phase(uint64_t id, Phase phase, TimePoint now) {
   std::lock_guard lock(mutex_);
   auto it = connections_.find(id);
-  if (it != connections_.end()) it->second.phase = phase;
+  if (it == connections_.end()) return;
+  it->second.phase = phase;
+  it->second.since = now;
 }
 
 void ClientShares::leave(uint64_t id) {
   std::lock_guard lock(mutex_);
   auto it = connections_.find(id);
-  if (it == connections_.end()) return;  // taken by another client: counted out already
+  if (it == connections_.end()) return;  // taken by another client or ended: counted out already
   decrement(held_, it->second.client);
   connections_.erase(it);
+}
+
+bool ClientShares::end(uint64_t id) {
+  std::lock_guard lock(mutex_);
+  auto it = connections_.find(id);
+  if (it == connections_.end()) return false;
+  drop(it);
+  return true;
+}
+
+std::vector<ClientShares::Overdue> ClientShares::end_overdue(TimePoint now, const PhaseLimits& limits) {
+  std::lock_guard lock(mutex_);
+  std::vector<Overdue> out;
+  for (auto it = connections_.begin(); it != connections_.end();) {
+    const Connection& c = it->second;
+    const std::chrono::milliseconds limit = c.phase == Phase::kIdle      ? limits.idle
+                                            : c.phase == Phase::kReading ? limits.reading
+                                                                         : limits.writing;
+    if (c.phase == Phase::kHandling || now - c.since <= limit) {
+      ++it;
+      continue;
+    }
+    out.push_back({c.peer, c.phase});
+    drop(it++);
+  }
+  return out;
 }
 
 bool ClientShares::begin_frame_wait(const std::string& client) {

@@ -26,11 +26,11 @@ bool taken(const std::filesystem::path& path) {
   return std::filesystem::symlink_status(path, ec).type() != std::filesystem::file_type::not_found;
 }
 
-void refuse_taken(httplib::Response& res, const std::filesystem::path& path) {
+void refuse_taken(Response& res, const std::filesystem::path& path) {
   reply_error(res, 409, path.filename().string() + " exists in the start directory: choose another name");
 }
 
-void save_camera(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void save_camera(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"name"});
   std::filesystem::path path = target(ctx, params, ".txt", ctx.config.camera_file);
   RenderSession::View v = ctx.session.view();
@@ -41,7 +41,7 @@ void save_camera(RouteContext& ctx, const httplib::Request& req, httplib::Respon
   res.set_content(std::move(reply), "application/json");
 }
 
-void start_render(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void start_render(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"name"});
   const bool named = params.has("name");
   std::filesystem::path path = target(ctx, params, ".png", ctx.config.image_file);
@@ -57,12 +57,10 @@ void start_render(RouteContext& ctx, const httplib::Request& req, httplib::Respo
 
 }  // namespace
 
-void add_file_routes(httplib::Server& server, RouteContext& ctx) {
-  server.Post("/api/camera/save",
-              guarded([&ctx](const httplib::Request& q, httplib::Response& r) { save_camera(ctx, q, r); }));
-  server.Post("/api/render",
-              guarded([&ctx](const httplib::Request& q, httplib::Response& r) { start_render(ctx, q, r); }));
-  server.Post("/api/render/cancel", guarded([&ctx](const httplib::Request& q, httplib::Response& r) {
+void add_file_routes(HttpServer& server, RouteContext& ctx) {
+  server.post("/api/camera/save", guarded([&ctx](const Request& q, Response& r) { save_camera(ctx, q, r); }));
+  server.post("/api/render", guarded([&ctx](const Request& q, Response& r) { start_render(ctx, q, r); }));
+  server.post("/api/render/cancel", guarded([&ctx](const Request& q, Response& r) {
                 RequestParams params(q.params, {});
                 reply_json(r, {{"cancelled", ctx.session.cancel_job()}});
               }));

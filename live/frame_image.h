@@ -69,7 +69,8 @@ struct FrameInfo {
 
 /// A published frame. Its pixels are converted from the film on first use,
 /// by the thread that first sends them: not the render thread, which goes on
-/// rendering, and not at all for a frame nobody asks for.
+/// rendering, and not at all for a frame nobody asks for. Once converted, the
+/// frame lets its film go: a frame that is still being sent holds its pixels only.
 class Frame {
  public:
   Frame(const FrameInfo& i, std::shared_ptr<const Film> film, PngQuantization q)
@@ -77,13 +78,15 @@ class Frame {
   const FrameInfo info;
   /// width * height * 4 bytes, top row first, alpha 255.
   const std::string& rgba() const {
-    std::call_once(converted_,
-                   [this] { rgba_ = film_rgba(*film_, info.display, channel_encoder(quantization_), info.target); });
+    std::call_once(converted_, [this] {
+      rgba_ = film_rgba(*film_, info.display, channel_encoder(quantization_), info.target);
+      film_.reset();
+    });
     return rgba_;
   }
 
  private:
-  std::shared_ptr<const Film> film_;
+  mutable std::shared_ptr<const Film> film_;
   PngQuantization quantization_;
   mutable std::once_flag converted_;
   mutable std::string rgba_;

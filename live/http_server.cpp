@@ -1,58 +1,112 @@
-// The connection loop of cpp-httplib's server, redone over ConnectionStream:
-// admission by the clients' shares (503 when a client holds its share, or the
-// server is full and no client holds more than its share), keep-alive, a
-// request deadline answered with 408, a request size answered with 431 (414
-// for the request line), a Range header answered with 416, and the checks of
-// a request's framing before its body is read.
+// libmicrohttpd's callbacks: a connection is admitted by the clients' shares
+// when it opens; a request's phase changes at its line (reading), its
+// headers (handling: the framing is checked before any body is read, then
+// the guard and the route run once the request is complete) and its
+// response (writing). A reply that waits suspends its connection; one
+// thread resumes it when it is ready (woken) or due, and ends connections
+// whose phase outlasts its limit.
 #include "http_server.h"
 
+#include <microhttpd.h>
+#include <netdb.h>
 #include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <poll.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <cctype>
+#include <arpa/inet.h>
+#include <condition_variable>
 #include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <thread>
 
 namespace pt::live {
-
 namespace {
 
-/// The status of the last response written on this thread (the logger sees
-/// every response, on the thread that serves its connection).
-thread_local int t_last_status = 0;
-/// The client of the connection this thread serves ("address:port"), for log lines
-/// about requests too malformed to name their sender.
-thread_local std::string t_peer;
-/// The stream of the connection this thread serves (the error handler asks it why a request failed).
-thread_local const ConnectionStream* t_stream = nullptr;
-/// The id of that connection among the clients' shares (its phase changes as its requests are served).
-thread_local uint64_t t_connection = 0;
-/// The last response said "Connection: close": the connection ends after it.
-thread_local bool t_close = false;
+constexpr std::chrono::milliseconds kStopGrace{500};  ///< for the replies the stop makes to be sent
+constexpr std::chrono::milliseconds kSlice{100};      ///< how often waits and deadlines are looked at
 
-/// Responses after which the connection is closed: the request was malformed or
-/// timed out, so where the next one starts in the byte stream is unknown.
-bool ends_connection(int status) {
-  return status == 400 || status == 408 || status == 411 || status == 413 || status == 414 || status == 415 ||
-         status == 416 || status == 431;
+/// A TCP connection (libmicrohttpd's socket context).
+struct Connection {
+  uint64_t id = 0;  ///< among the shares (0: refused)
+  std::string peer;
+};
+
+/// A request, from its line on (libmicrohttpd's request context).
+struct Exchange {
+  Connection* connection = nullptr;
+  Request request;
+  bool headers_seen = false, answered = false;
+  std::shared_ptr<Response::Wait> wait;  ///< the reply waits for this
+  Clock::time_point due;                 ///< ... until then
+  bool stop_reply = false;               ///< its reply is one the stop waits for
+};
+
+Connection* connection_of(MHD_Connection* c) {
+  const MHD_ConnectionInfo* i = MHD_get_connection_info(c, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+  return i ? static_cast<Connection*>(i->socket_context) : nullptr;
 }
 
-/// What httplib's own refusals mean (routes name theirs in X-PT-Error).
-const char* reason(int status) {
-  switch (status) {
-    case 400: return "malformed request";
-    case 404: return "no such route";
-    case 405: return "method not allowed";
-    case 411: return "length required";
-    case 413: return "request body too large";
-    case 414: return "request line too long";
-    case 415: return "unsupported media type";
-    case 416: return "bad range";
-    case 431: return "request headers too large";
-    default: return "refused";
+std::string address_text(const sockaddr* a, int& port) {
+  char text[INET6_ADDRSTRLEN] = "";
+  if (a && a->sa_family == AF_INET) {
+    inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(a)->sin_addr, text, sizeof text);
+    port = ntohs(reinterpret_cast<const sockaddr_in*>(a)->sin_port);
+  } else if (a && a->sa_family == AF_INET6) {
+    inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6*>(a)->sin6_addr, text, sizeof text);
+    port = ntohs(reinterpret_cast<const sockaddr_in6*>(a)->sin6_port);
   }
+  return text;
+}
+
+void refuse(Response& res, int status, const std::string& why) {
+  res.status = status;
+  res.set_header("X-PT-Error", why);
+  res.set_content(why + "\n", "text/plain");
+}
+
+/// Why libmicrohttpd refused a request itself.
+const char* reason(unsigned status) {
+  switch (status) {
+    case 414: return "request line too long";
+    case 431: return "request headers larger than a connection's memory";
+    case 413: return "request too large";
+    default: return "malformed request";
+  }
+}
+
+/// Refuses a request whose bytes the server cannot take as read: header lines not exactly "Name: value" with
+/// CRLF (a NUL ends a value early, so the check counts the bytes), or a body of any kind.
+bool refuse_framing(const Request& req, const std::string& version, size_t header_bytes, Response& res) {
+  size_t read = req.method.size() + req.target.size() + version.size() + 4 + 2;
+  for (const auto& [name, value] : req.headers) read += name.size() + value.size() + 4;
+  if (read != header_bytes)
+    refuse(res, 400,
+           "header lines must be \"Name: value\" ending in CRLF, without NUL bytes (" + std::to_string(read) + " of " +
+               std::to_string(header_bytes) + " bytes read)");
+  else if (req.header_count("Transfer-Encoding"))
+    refuse(res, 411, "Transfer-Encoding is not accepted: no request has a body");
+  else if (req.header_count("Content-Length") > 1) refuse(res, 400, "Content-Length is given more than once");
+  else if (std::string n = req.header("Content-Length"); n.find_first_not_of('0') != std::string::npos)
+    refuse(res, 413,
+           "a body of " + log_safe(n, 20) + " bytes is not accepted: " + log_safe(req.method, 16) + " " +
+               log_safe(req.path, 80) + " takes none (no request has a body)");
+  return res.status >= 400;
+}
+
+/// Runs `make` for `res`; an exception is a 500 with its message.
+void make_reply(const std::function<void(Response&)>& make, Response& res) {
+  try {
+    make(res);
+  } catch (const std::exception& e) {
+    res = Response{};
+    refuse(res, 500, e.what());
+  }
+}
+
+bool same_name(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && strncasecmp(a.data(), b.data(), a.size()) == 0;
 }
 
 }  // namespace
@@ -75,195 +129,316 @@ std::string log_safe(const std::string& text, size_t max) {
   return out;
 }
 
+std::string Request::header(std::string_view name) const {
+  for (const auto& [n, v] : headers)
+    if (same_name(n, name)) return v;
+  return {};
+}
+
+size_t Request::header_count(std::string_view name) const {
+  size_t count = 0;
+  for (const auto& h : headers) count += same_name(h.first, name);
+  return count;
+}
+
+std::string Response::header(std::string_view name) const {
+  for (const auto& [n, v] : headers)
+    if (n == name) return v;
+  return {};
+}
+
+/// The replies waiting, and the thread that resumes them.
+struct HttpServer::Waiting {
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool woken = false, closing = false, quit = false;
+  std::vector<std::pair<MHD_Connection*, Exchange*>> replies;
+  size_t stop_replies = 0;  ///< replies the stop made (or resumed) and waits for
+  std::thread thread;
+};
+
+struct HttpServer::Callbacks {
+  static void connection(void* cls, MHD_Connection* c, void** context, MHD_ConnectionNotificationCode code) {
+    HttpServer& s = *static_cast<HttpServer*>(cls);
+    if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
+      auto* conn = static_cast<Connection*>(*context);
+      if (conn && conn->id) s.shares_.leave(conn->id);
+      delete conn;
+      return;
+    }
+    int port = 0;
+    const MHD_ConnectionInfo* a = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CLIENT_ADDRESS);
+    const std::string ip = address_text(a ? a->client_addr : nullptr, port), client = client_of(ip);
+    const int fd = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CONNECTION_FD)->connect_fd;
+    auto* conn = new Connection{0, ip + ":" + std::to_string(port)};
+    *context = conn;
+    // Taking a connection shuts its socket down: libmicrohttpd then closes it.
+    ClientShares::Admission adm = s.shares_.admit(
+        client, conn->peer, [fd] { shutdown(fd, SHUT_RDWR); }, s.now_());
+    if (adm.refusal != ClientShares::Refusal::kNone) {  // the line first: the client sees the close after it
+      s.log_("live: refused a connection from " + conn->peer + ": " +
+             (adm.refusal == ClientShares::Refusal::kClientFull
+                  ? client + " has " + std::to_string(adm.held) + " connections open, as many as one client may"
+                  : std::to_string(s.limits_.shares.connections) +
+                        " connections open, none of them beyond its client's share"));
+      shutdown(fd, SHUT_RDWR);
+      return;
+    }
+    conn->id = adm.id;
+    if (!adm.evicted_client.empty())
+      s.log_("live: a connection of " + adm.evicted_client + " closed for one of " + client + " (" +
+             std::to_string(s.limits_.shares.connections) + " open: " + adm.evicted_client + " held the most)");
+  }
+
+  static void* request_line(void* cls, const char* uri, MHD_Connection* c) {
+    HttpServer& s = *static_cast<HttpServer*>(cls);
+    auto* x = new Exchange;
+    x->connection = connection_of(c);
+    x->request.target = uri;
+    if (x->connection) s.shares_.set_phase(x->connection->id, ClientShares::Phase::kReading, s.now_());
+    return x;
+  }
+
+  static MHD_Result value(void* into, MHD_ValueKind kind, const char* key, size_t key_size, const char* value,
+                          size_t value_size) {
+    std::string k(key, key_size), v(value ? value : "", value ? value_size : 0);
+    if (kind == MHD_HEADER_KIND) static_cast<Request*>(into)->headers.emplace_back(std::move(k), std::move(v));
+    else static_cast<Request*>(into)->params.emplace(std::move(k), std::move(v));
+    return MHD_YES;
+  }
+
+  static MHD_Result request(void* cls, MHD_Connection* c, const char* url, const char* method, const char* version,
+                            const char*, size_t* upload_size, void** context) {
+    HttpServer& s = *static_cast<HttpServer*>(cls);
+    auto* x = static_cast<Exchange*>(*context);
+    // No line seen, a connection refused or taken, or a body that the framing let through: close.
+    if (!x || !x->connection || !x->connection->id || *upload_size != 0) return MHD_NO;
+    Response res;
+    if (!x->headers_seen) {  // the headers are in, the body (if any) is not read yet
+      x->headers_seen = true;
+      Request& req = x->request;
+      req.method = method;
+      req.path = url;
+      req.connection = x->connection->id;
+      req.remote_addr = x->connection->peer.substr(0, x->connection->peer.rfind(':'));
+      MHD_get_connection_values_n(c, MHD_HEADER_KIND, value, &req);
+      MHD_get_connection_values_n(c, MHD_GET_ARGUMENT_KIND, value, &req);
+      s.shares_.set_phase(req.connection, ClientShares::Phase::kHandling, s.now_());
+      const size_t bytes = MHD_get_connection_info(c, MHD_CONNECTION_INFO_REQUEST_HEADER_SIZE)->header_size;
+      // A reply now, before the body: libmicrohttpd then closes the connection without reading it.
+      return refuse_framing(req, version, bytes, res) ? respond(s, c, *x, res) : MHD_YES;
+    }
+    std::shared_ptr<Response::Wait> wait = std::move(x->wait);  // set: resumed
+    if (!wait) {
+      s.dispatch(x->request, res);
+      wait = std::move(res.deferred);
+      if (wait) res = Response{};
+      if (wait && !wait->ready() && suspend(s, c, *x, wait)) return MHD_YES;
+    }
+    if (wait && s.stopping_.load()) refuse(res, 503, "the server is stopping");
+    else if (wait) make_reply(wait->finish, res);
+    return respond(s, c, *x, res);
+  }
+
+  static void completed(void* cls, MHD_Connection* c, void** context, MHD_RequestTerminationCode) {
+    HttpServer& s = *static_cast<HttpServer*>(cls);
+    auto* x = static_cast<Exchange*>(*context);
+    if (!x) return;
+    const MHD_ConnectionInfo* i = MHD_get_connection_info(c, MHD_CONNECTION_INFO_HTTP_STATUS);
+    const unsigned status = i ? i->http_status : 0;
+    if (!x->answered && status >= 400 && x->connection)
+      s.log_("live: " + std::to_string(status) + " " + log_safe(x->request.target) + " from " + x->connection->peer +
+             ": " + reason(status));
+    if (x->stop_reply) {
+      std::lock_guard lock(s.waiting_->mutex);
+      --s.waiting_->stop_replies;
+      s.waiting_->cv.notify_all();
+    }
+    if (x->connection) s.shares_.set_phase(x->connection->id, ClientShares::Phase::kIdle, s.now_());
+    delete x;
+    *context = nullptr;
+  }
+
+  static void release(void* keep) { delete static_cast<std::shared_ptr<const void>*>(keep); }
+
+  /// Queues `res`; every refusal (400 and up) closes its connection and is one log line.
+  static MHD_Result respond(HttpServer& s, MHD_Connection* c, Exchange& x, Response& res) {
+    MHD_Response* r = nullptr;
+    if (res.parts.empty()) {
+      r = MHD_create_response_from_buffer(res.body.size(), res.body.data(), MHD_RESPMEM_MUST_COPY);
+    } else {
+      std::vector<MHD_IoVec> iov;
+      for (std::string_view p : res.parts) iov.push_back({p.data(), p.size()});
+      r = MHD_create_response_from_iovec(iov.data(), unsigned(iov.size()), release,
+                                         new std::shared_ptr<const void>(std::move(res.keep)));
+    }
+    if (!r) return MHD_NO;
+    for (const Headers* list : {&s.default_headers_, &res.headers})
+      for (const auto& [name, value] : *list) MHD_add_response_header(r, name.c_str(), value.c_str());
+    MHD_add_response_header(r, "Content-Type", res.content_type.c_str());
+    const bool stopping = s.stopping_.load();
+    if (res.status >= 400 || stopping) MHD_add_response_header(r, "Connection", "close");
+    if (res.status >= 400 && !(res.status == 503 && stopping)) {
+      const std::string why = res.header("X-PT-Error");
+      s.log_("live: " + std::to_string(res.status) + " " + log_safe(x.request.method, 16) + " " +
+             log_safe(x.request.target) + " from " + x.connection->peer + ": " + (why.empty() ? "refused" : why));
+    }
+    if (stopping && !x.stop_reply) {
+      std::lock_guard lock(s.waiting_->mutex);
+      x.stop_reply = true;
+      ++s.waiting_->stop_replies;
+    }
+    x.answered = true;
+    s.shares_.set_phase(x.connection->id, ClientShares::Phase::kWriting, s.now_());
+    const MHD_Result queued = MHD_queue_response(c, unsigned(res.status), r);
+    MHD_destroy_response(r);
+    return queued;
+  }
+
+  /// Suspends the connection until `wait` is over; false (reply now) once the server stops.
+  static bool suspend(HttpServer& s, MHD_Connection* c, Exchange& x, std::shared_ptr<Response::Wait> wait) {
+    Waiting& w = *s.waiting_;
+    std::lock_guard lock(w.mutex);
+    if (w.closing) return false;
+    x.wait = std::move(wait);
+    x.due = s.now_() + x.wait->wait;
+    MHD_suspend_connection(c);
+    w.replies.emplace_back(c, &x);
+    w.woken = true;  // what it waits for may have come meanwhile
+    w.cv.notify_all();
+    return true;
+  }
+};
+
 HttpServer::HttpServer(const ServerLimits& limits, LogSink log, NowFunction now)
     : limits_(limits),
       log_(std::move(log)),
       now_(now ? std::move(now) : NowFunction([] { return Clock::now(); })),
-      shares_(limits.shares) {
-  // SO_REUSEADDR only: a restart may bind while old connections linger, but no
-  // second server can share the port (httplib's default, SO_REUSEPORT, lets it).
-  set_socket_options([](socket_t sock) {
-    int yes = 1;
-    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-  });
-  new_task_queue = [n = limits_.threads] { return new httplib::ThreadPool(n); };
-  set_payload_max_length(0);  // no route reads a body (refuse_framing refuses one before httplib would read it)
-  set_keep_alive_max_count(limits_.max_requests_per_connection);
-  // Every response with status 400 and up passes here. A request that httplib found malformed because the stream
-  // stopped it (at a Range header, at the size or time limit) is answered with the reason; a response after
-  // which the connection closes says so.
-  set_error_handler(HandlerWithResponse([this](const httplib::Request&, httplib::Response& res) {
-    auto answer = [&res](int status, const std::string& why) {
-      res.status = status;
-      res.set_header("X-PT-Error", why);
-      res.set_content(why + "\n", "text/plain");
-      return HandlerResponse::Handled;
-    };
-    HandlerResponse handled = HandlerResponse::Unhandled;
-    if (t_stream && t_stream->range_refused()) {
-      handled = answer(416, "a Range header is not accepted (responses are sent whole)");
-    } else if (t_stream && res.status == 400 && t_stream->headers_too_large()) {
-      handled = answer(431, "request headers larger than " + std::to_string(CPPHTTPLIB_HEADER_MAX_LENGTH) +
-                                " bytes a line or " + std::to_string(limits_.stream.request_bytes) + " in all");
-    } else if (t_stream && res.status == 400 && t_stream->timed_out()) {
-      handled =
-          answer(408, "no complete request within " + std::to_string(limits_.stream.request_time.count()) + " ms");
-    }
-    if (ends_connection(res.status) && res.get_header_value("Connection") != "close")
-      res.set_header("Connection", "close");
-    return handled;
-  }));
-  set_logger([this](const httplib::Request& req, const httplib::Response& res) {
-    t_last_status = res.status;
-    t_close = res.get_header_value("Connection") == "close";
-    if (res.status < 400 || (res.status == 503 && stopping_.load())) return;  // requests ended by the stop
-    std::string why = res.get_header_value("X-PT-Error");
-    log_("live: " + std::to_string(res.status) + " " + log_safe(req.method, 16) + " " + log_safe(req.target) +
-         " from " + t_peer + ": " + (why.empty() ? reason(res.status) : why));
-  });
+      shares_(limits.shares),
+      waiting_(std::make_unique<Waiting>()) {}
+
+HttpServer::~HttpServer() {
+  stop();
+  if (listen_fd_ >= 0) close(listen_fd_);
 }
 
 int HttpServer::bind(const std::string& host, int port) {
-  if (port == 0) return bind_to_any_port(host);
-  return bind_to_port(host, port) ? port : -1;
+  addrinfo hints{}, *found = nullptr;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
+  if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return -1;
+  int fd = socket(found->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  // SO_REUSEADDR only: a restart may bind while old connections linger, but no second server shares the port.
+  int yes = 1;
+  if (fd >= 0) setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  const bool bound = fd >= 0 && ::bind(fd, found->ai_addr, found->ai_addrlen) == 0 && listen(fd, SOMAXCONN) == 0;
+  freeaddrinfo(found);
+  sockaddr_storage a{};
+  socklen_t length = sizeof a;
+  if (!bound || getsockname(fd, reinterpret_cast<sockaddr*>(&a), &length) != 0) {
+    if (fd >= 0) close(fd);
+    return -1;
+  }
+  listen_fd_ = fd;
+  int bound_port = 0;
+  address_text(reinterpret_cast<const sockaddr*>(&a), bound_port);
+  return bound_port;
 }
 
-void HttpServer::set_request_guard(HandlerWithResponse guard) {
-  set_pre_routing_handler([this, guard = std::move(guard)](const httplib::Request& req, httplib::Response& res) {
-    shares_.set_phase(t_connection, ClientShares::Phase::kHandling);
-    if (refuse_framing(req, res)) {
-      res.set_header("Connection", "close");  // the body, if any, is not read: the next request's start is unknown
-      return HandlerResponse::Handled;
-    }
-    return guard(req, res);
-  });
-}
-
-bool HttpServer::refuse_framing(const httplib::Request& req, httplib::Response& res) const {
-  auto refuse = [&res](int status, const std::string& why) {
-    res.status = status;
-    res.set_header("X-PT-Error", why);
-    res.set_content(why + "\n", "text/plain");
-    return true;
-  };
-  if (req.has_header("Range")) return refuse(416, "a Range header is not accepted (responses are sent whole)");
-  if (t_stream && t_stream->percent_encoded())
-    return refuse(400, "Host and X-PT-Live are taken as sent: their values may not be percent-encoded");
-  if (req.has_header("Transfer-Encoding"))
-    return refuse(411, "Transfer-Encoding is not accepted: no request has a body");
-  if (req.has_header("Content-Encoding")) return refuse(415, "Content-Encoding is not accepted: no request has a body");
-  // httplib would parse a multipart body's part headers with std::regex, which recurses about 300 bytes of stack
-  // per byte: a part header of a few thousand bytes overflows a thread's stack under some limits.
-  std::string type = req.get_header_value("Content-Type");
-  for (char& c : type) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (type.rfind("multipart/", 0) == 0) return refuse(415, "a multipart body is not accepted: no request has a body");
-  const size_t lengths = req.get_header_value_count("Content-Length");
-  if (lengths == 0) return req.method == "POST" && refuse(411, "a POST needs a Content-Length of 0 (no body)");
-  if (lengths > 1) return refuse(400, "Content-Length is given more than once");
-  const std::string text = req.get_header_value("Content-Length");
-  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos)
-    return refuse(400, "Content-Length must be a decimal number, got \"" + log_safe(text, 40) + "\"");
-  if (text.find_first_not_of('0') != std::string::npos)
-    return refuse(413, "a body of " + text + " bytes is not accepted: " + log_safe(req.method, 16) + " " +
-                           log_safe(req.path, 80) + " takes none (no request has a body)");
-  return false;
+bool HttpServer::start() {
+  if (listen_fd_ < 0 || daemon_) return false;
+  waiting_->thread = std::thread([this] { watch(); });
+  sockaddr_storage a{};
+  socklen_t length = sizeof a;
+  getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&a), &length);
+  const unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_EPOLL | MHD_ALLOW_SUSPEND_RESUME |
+                         (a.ss_family == AF_INET6 ? MHD_USE_IPv6 : 0);
+  daemon_ = MHD_start_daemon(flags, 0, nullptr, nullptr, &Callbacks::request, this, MHD_OPTION_LISTEN_SOCKET,
+                             listen_fd_, MHD_OPTION_THREAD_POOL_SIZE, limits_.threads, MHD_OPTION_CONNECTION_LIMIT,
+                             unsigned(limits_.max_sockets), MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+                             limits_.connection_bytes, MHD_OPTION_NOTIFY_CONNECTION, &Callbacks::connection, this,
+                             MHD_OPTION_URI_LOG_CALLBACK, &Callbacks::request_line, this, MHD_OPTION_NOTIFY_COMPLETED,
+                             &Callbacks::completed, this, MHD_OPTION_END);
+  if (!daemon_) stop();
+  return daemon_ != nullptr;
 }
 
 void HttpServer::stop() {
+  Waiting& w = *waiting_;
+  std::unique_lock lock(w.mutex);
+  if (!w.thread.joinable()) return;
   stopping_.store(true);
-  httplib::Server::stop();
+  w.closing = w.woken = true;
+  w.cv.notify_all();
+  // The replies the stop makes (every waiting one: 503) get a short grace to be sent, on the real clock:
+  // whatever the clients do, the stop ends within it.
+  w.cv.wait_for(lock, kStopGrace, [&] { return w.replies.empty() && w.stop_replies == 0; });
+  w.quit = true;
+  w.cv.notify_all();
+  lock.unlock();
+  w.thread.join();
+  if (daemon_) MHD_stop_daemon(daemon_);
+  daemon_ = nullptr;
 }
 
-bool HttpServer::wait_for_request(int fd) const {
-  const auto deadline = now_() + limits_.keep_alive;
-  while (!stopping_.load() && now_() < deadline) {
-    pollfd p{fd, POLLIN, 0};
-    int r = poll(&p, 1, int(ConnectionStream::kSlice.count()));
-    if (r > 0) return (p.revents & POLLIN) != 0;
-    if (r < 0 && errno != EINTR) return false;
+void HttpServer::get(const std::string& path, Handler handler) { get_routes_[path] = std::move(handler); }
+void HttpServer::post(const std::string& path, Handler handler) { post_routes_[path] = std::move(handler); }
+
+void HttpServer::wake() {
+  {
+    std::lock_guard lock(waiting_->mutex);
+    waiting_->woken = true;
   }
-  return false;
+  waiting_->cv.notify_all();
 }
 
-void HttpServer::send_bare(int fd, int status, const char* reason) const {
-  std::string head =
-      "HTTP/1.1 " + std::to_string(status) + " " + reason + "\r\nConnection: close\r\nContent-Length: 0\r\n\r\n";
-  ssize_t ignored = send(fd, head.data(), head.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-  (void)ignored;
+void HttpServer::dispatch(const Request& req, Response& res) const {
+  if (stopping_.load()) return refuse(res, 503, "the server is stopping");
+  if (guard_) guard_(req, res);
+  if (res.status >= 400) return;
+  const auto& routes = req.method == "POST" ? post_routes_ : get_routes_;  // HEAD: GET without the body
+  auto route = routes.find(req.path);
+  if (route == routes.end() || (req.method != "POST" && req.method != "GET" && req.method != "HEAD"))
+    return refuse(res, 404, "no such route");
+  make_reply([&](Response& r) { route->second(req, r); }, res);
 }
 
-bool HttpServer::process_and_close_socket(socket_t sock) {
-  // A response goes out as a head and a body; without TCP_NODELAY the body
-  // would wait for the head's acknowledgement (up to 40 ms of delayed ACK).
-  int yes = 1;
-  setsockopt(sock, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
-  ConnectionStream stream(sock, limits_.stream, stopping_, now_, literal_headers_);
-  std::string ip;
-  int port = 0;
-  stream.get_remote_ip_and_port(ip, port);
-  const std::string who = ip + ":" + std::to_string(port);
-  const std::string client = client_of(ip);
-  // Taking another client's connection shuts its socket down: its thread's wait returns, and it closes.
-  ClientShares::Admission a = shares_.admit(client, [sock] { shutdown(sock, SHUT_RDWR); });
-  bool ok = false;
-  if (a.refusal != ClientShares::Refusal::kNone) {
-    send_bare(sock, 503, "Service Unavailable");
-    const ShareLimits& l = limits_.shares;
-    log_("live: 503 from " + who + ": " +
-         (a.refusal == ClientShares::Refusal::kClientFull
-              ? client + " has " + std::to_string(a.held) + " connections open, as many as one client may"
-              : std::to_string(l.connections) + " connections open, none of them beyond its client's share") +
-         "; refused");
-  } else {
-    if (!a.evicted_client.empty())
-      log_("live: a connection of " + a.evicted_client + " closed for one of " + client + " (" +
-           std::to_string(limits_.shares.connections) + " open: " + a.evicted_client + " held the most)");
-    ok = serve(sock, stream, a.id, who);
-    shares_.leave(a.id);
+void HttpServer::watch() {
+  Waiting& w = *waiting_;
+  std::unique_lock lock(w.mutex);
+  while (!w.quit) {
+    w.cv.wait_for(lock, kSlice, [&] { return w.woken || w.quit; });
+    w.woken = false;
+    const auto replies = w.replies;
+    const bool closing = w.closing;
+    lock.unlock();
+    // Asked without the lock: `ready` may take the render's.
+    std::vector<std::pair<MHD_Connection*, Exchange*>> over;
+    for (const auto& r : replies)
+      if (closing || now_() >= r.second->due || r.second->wait->ready()) over.push_back(r);
+    end_overdue();
+    lock.lock();
+    for (const auto& r : over) {
+      std::erase(w.replies, r);
+      r.second->stop_reply = closing;
+      w.stop_replies += closing;
+    }
+    lock.unlock();
+    for (const auto& r : over) MHD_resume_connection(r.first);
+    lock.lock();
   }
-  shutdown(sock, SHUT_RDWR);
-  close(sock);
-  return ok;
 }
 
-bool HttpServer::serve(int sock, ConnectionStream& stream, uint64_t id, const std::string& who) {
-  t_stream = &stream;
-  t_peer = who;
-  t_connection = id;
-  stream.set_on_response([this, id] { shares_.set_phase(id, ClientShares::Phase::kWriting); });
-  bool ok = false;
-  for (size_t left = limits_.max_requests_per_connection; left > 0 && !stopping_.load(); --left) {
-    shares_.set_phase(id, ClientShares::Phase::kIdle);
-    if (!stream.has_buffered() && !wait_for_request(sock)) break;
-    stream.begin_request();  // the request's deadline starts before the phase says so
-    shares_.set_phase(id, ClientShares::Phase::kReading);
-    bool closed = false;
-    t_last_status = 0;
-    t_close = false;
-    ok = process_request(stream, left == 1, closed, nullptr);
-    if (!stream.wrote() && stream.timed_out()) {
-      send_bare(sock, 408, "Request Timeout");
-      log_("live: 408 from " + who + ": no complete request within " +
-           std::to_string(limits_.stream.request_time.count()) + " ms; closed");
-      break;
-    }
-    if (!stream.wrote() && stream.line_too_large()) {
-      send_bare(sock, 414, "URI Too Long");
-      log_("live: 414 from " + who + ": request line longer than " + std::to_string(limits_.stream.request_bytes) +
-           " bytes; closed");
-      break;
-    }
-    if (!stream.wrote() && stream.too_large()) {
-      send_bare(sock, 431, "Request Header Fields Too Large");
-      log_("live: 431 from " + who + ": request larger than " + std::to_string(limits_.stream.request_bytes) +
-           " bytes; closed");
-      break;
-    }
-    if (!ok || closed || t_close || ends_connection(t_last_status)) break;
+void HttpServer::end_overdue() {
+  const ClientShares::PhaseLimits limits{limits_.keep_alive, limits_.request_time, limits_.response_time};
+  for (const ClientShares::Overdue& o : shares_.end_overdue(now_(), limits)) {
+    if (o.phase == ClientShares::Phase::kReading)
+      log_("live: closed the connection of " + o.peer + ": no complete request within " +
+           std::to_string(limits_.request_time.count()) + " ms");
+    else if (o.phase == ClientShares::Phase::kWriting)
+      log_("live: closed the connection of " + o.peer + ": its response was not taken within " +
+           std::to_string(limits_.response_time.count()) + " ms");
   }
-  t_stream = nullptr;
-  t_connection = 0;
-  return ok;
 }
 
 }  // namespace pt::live

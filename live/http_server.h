@@ -1,80 +1,144 @@
-// The live view's HTTP server: cpp-httplib's parsing and routing over
-// connections with hard limits (connection_stream.h), connections shared
-// fairly between clients (client_shares.h), and one log line for every
-// request refused (status 400 and up) or timed out and every connection one
-// client's share took from another. Requests are framed plainly and carry no
-// body (no route reads one): no Range header (refused before httplib parses
-// it), no Transfer-Encoding, Content-Encoding or multipart Content-Type, a
-// Content-Length of 0 on a POST, Host and X-PT-Live as sent (not
-// percent-encoded); each is checked before httplib reads or parses a body,
-// and a refusal closes the connection.
+// The live view's HTTP server: GNU libmicrohttpd (a thread pool, a memory
+// limit per connection) through its public API, with exact-path routes, a
+// guard run before any route, replies that wait without holding a thread
+// (suspended connections, resumed on wake()), connections shared between
+// clients (client_shares.h) with a deadline for each phase of a connection,
+// and one log line for every request refused (status 400 and up), every
+// connection closed for a deadline and every connection one client's share
+// took from another. No request has a body: one is refused before it is
+// read, and so is a request whose header bytes are not what the server read
+// from them (a NUL ends a value early). Every refusal closes its connection.
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <map>
+#include <memory>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
-#include <httplib.h>
-
 #include "client_shares.h"
-#include "connection_stream.h"
+
+struct MHD_Daemon;
 
 namespace pt::live {
 
+/// The clock of the server's deadlines: steady_clock's time, or a test's.
+using Clock = std::chrono::steady_clock;
+using NowFunction = std::function<Clock::time_point()>;
+
 struct ServerLimits {
-  StreamLimits stream;
-  ShareLimits shares;                          ///< connections at once, in all and per client; frame waits per client
-  std::chrono::milliseconds keep_alive{5000};  ///< an idle connection is closed after this long
-  size_t threads = 64;  ///< connections served at once: more than shares.connections, so that refusals find one
-  size_t max_requests_per_connection = 1000;
+  std::chrono::milliseconds keep_alive{5000};      ///< an idle connection closes after this long
+  std::chrono::milliseconds request_time{5000};    ///< from a request's line to the end of its headers
+  std::chrono::milliseconds response_time{30000};  ///< for all of a response's bytes to be taken
+  size_t connection_bytes = 64 * 1024;             ///< a connection's memory: its request's line and headers fit in it
+  ShareLimits shares;       ///< connections at once, in all and per client; frame waits per client
+  unsigned threads = 4;     ///< libmicrohttpd's thread pool (waiting replies hold none)
+  size_t max_sockets = 64;  ///< open at once: more than shares.connections, so that a refusal finds one
 };
 
 /// Where log lines go (one line each, without the newline).
 using LogSink = std::function<void(const std::string&)>;
 
-/// `text` made safe for a one-line log: control and non-ASCII bytes as \xNN,
-/// cut to `max` characters with "...".
+/// `text` made safe for a one-line log: control and non-ASCII bytes as \xNN, cut to `max` characters with "...".
 std::string log_safe(const std::string& text, size_t max = 200);
 
-class HttpServer : public httplib::Server {
+using Headers = std::vector<std::pair<std::string, std::string>>;
+
+struct Request {
+  std::string method;
+  std::string path;    ///< percent-decoded, without the query
+  std::string target;  ///< the request line's target as sent (log lines name it)
+  std::multimap<std::string, std::string> params;
+  Headers headers;          ///< as sent, in order
+  std::string remote_addr;  ///< the client's address, without the port
+  uint64_t connection = 0;  ///< the connection's id among the clients' shares
+  /// The first value of the header `name` (in any case), or "".
+  std::string header(std::string_view name) const;
+  size_t header_count(std::string_view name) const;
+};
+
+struct Response {
+  int status = 200;
+  std::string content_type = "text/plain";
+  std::string body;
+  Headers headers;
+  /// Instead of `body`: these bytes, sent from memory that `keep` holds until the response is done (no copy).
+  std::vector<std::string_view> parts;
+  std::shared_ptr<const void> keep;
+  /// A reply that waits: `ready` (any thread, must not block) is asked on wake() and once on registration;
+  /// once it says so, `wait` has passed or the server stops, `finish` makes the reply.
+  struct Wait {
+    std::function<bool()> ready;
+    std::chrono::milliseconds wait{0};
+    std::function<void(Response&)> finish;
+  };
+  std::shared_ptr<Wait> deferred;
+
+  void set_content(std::string text, std::string type) {
+    body = std::move(text);
+    content_type = std::move(type);
+  }
+  void set_header(std::string name, std::string value) { headers.emplace_back(std::move(name), std::move(value)); }
+  /// The value of the header `name` set so far (exact case), or "".
+  std::string header(std::string_view name) const;
+};
+
+using Handler = std::function<void(const Request&, Response&)>;
+
+class HttpServer {
  public:
   /// `now` is the clock of every deadline (none: steady_clock's).
   HttpServer(const ServerLimits& limits, LogSink log, NowFunction now = {});
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
 
-  /// Binds to host:port (port 0: any free port); the port bound, or -1.
+  /// Listens on host:port (port 0: any free port); the port, or -1.
   int bind(const std::string& host, int port);
-  /// Installs `guard` as the pre-routing handler, after the server's own checks of the request's framing.
-  void set_request_guard(HandlerWithResponse guard);
-  /// Stops at once: connections end after the response under way (reads stop, writes get a short grace),
-  /// then the listener closes. Hides httplib::Server::stop, which waits for every connection's deadline.
+  /// Starts serving; false if libmicrohttpd cannot start.
+  bool start();
+  /// Stops within half a second whatever the clients do: waiting replies are made (503: the server is
+  /// stopping), and every connection closes once they are sent or the half second passes.
   void stop();
   bool stopping() const { return stopping_.load(); }
+
+  void get(const std::string& path, Handler handler);
+  void post(const std::string& path, Handler handler);
+  /// Runs before the routes: refuses a request by setting a status of 400 and up.
+  void set_guard(Handler guard) { guard_ = std::move(guard); }
+  void set_default_headers(Headers headers) { default_headers_ = std::move(headers); }
+  /// Something a waiting reply waits for may have happened (any thread, never blocks).
+  void wake();
+
   void log(const std::string& line) const { log_(line); }
   /// Connections open now (admitted and not yet closed or taken by another client).
   size_t open_connections() const { return shares_.open(); }
-  /// The clients' shares: a frame request holds a FrameWait of them while it waits.
   ClientShares& shares() { return shares_; }
 
  private:
-  bool process_and_close_socket(socket_t sock) override;
-  /// Waits for the first byte of a next request; false when the connection idles out or the server stops.
-  bool wait_for_request(int fd) const;
-  /// Sends a bare response with `status` and closes nothing (best effort: the client may be gone).
-  void send_bare(int fd, int status, const char* reason) const;
-  /// Refuses a request whose body or framing the server does not take (status and X-PT-Error set); false if fine.
-  bool refuse_framing(const httplib::Request& req, httplib::Response& res) const;
-  /// Serves the requests of an admitted connection until it closes.
-  bool serve(int sock, ConnectionStream& stream, uint64_t id, const std::string& who);
+  struct Callbacks;  // libmicrohttpd's callbacks, in the .cpp
+  struct Waiting;
+  void dispatch(const Request& req, Response& res) const;
+  /// Polls the waiting replies and the connections' deadlines until the server stops.
+  void watch();
+  void end_overdue();
 
   ServerLimits limits_;
   LogSink log_;
   NowFunction now_;
   ClientShares shares_;
-  const std::vector<std::string> literal_headers_{"host", "x-pt-live"};
+  Handler guard_;
+  Headers default_headers_;
+  std::map<std::string, Handler> get_routes_, post_routes_;
+  int listen_fd_ = -1;
+  MHD_Daemon* daemon_ = nullptr;
   std::atomic<bool> stopping_{false};
+  std::unique_ptr<Waiting> waiting_;
 };
 
 }  // namespace pt::live

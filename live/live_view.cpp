@@ -1,5 +1,5 @@
-// The server's life: bind, print the address, listen on a thread, wait for
-// the stop flag, then stop the render (releasing frame waiters) and the server.
+// The server's life: bind, print the address, serve (libmicrohttpd's
+// threads), wait for the stop flag, then stop the server and the render.
 #include "live_view.h"
 
 #include <arpa/inet.h>
@@ -90,9 +90,10 @@ int serve_live_view(const Scene& scene, const LiveOptions& o, const std::atomic<
   RouteConfig routes{o.directory, o.camera_file, o.image_file, accepted_hosts(o.bind, port), scene.name};
   SessionConfig session_config = o.session;
   session_config.log = [&server](const std::string& line) { server.log(line); };
+  session_config.frames_changed = [&server] { server.wake(); };
   RenderSession session(scene, bvh, session_config);
   add_routes(server, session, bvh, routes);
-  std::thread listener([&server] { server.listen_after_bind(); });
+  if (!server.start()) throw InputError("--serve: the HTTP server (libmicrohttpd) did not start");
   if (!o.quiet) {
     const std::string shown = o.bind == "0.0.0.0" || o.bind == "::" ? "127.0.0.1" : o.bind;
     std::printf("Live view of %s at http://%s/ (Ctrl-C stops)\n", scene.name.c_str(), host_port(shown, port).c_str());
@@ -102,9 +103,8 @@ int serve_live_view(const Scene& scene, const LiveOptions& o, const std::atomic<
     std::fflush(stdout);
   }
   while (!stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  server.stop();   // connections end after their response, the listener closes
-  session.stop();  // frame requests still waiting return (503: the server is stopping)
-  listener.join();
+  server.stop();   // waiting frame requests get 503, then every connection closes
+  session.stop();  // the render ends within a wave
   if (!o.quiet) std::printf("Live view stopped\n");
   return 0;
 }

@@ -70,6 +70,7 @@ void RenderSession::stop() {
   }
   work_cv_.notify_all();
   frame_cv_.notify_all();
+  if (config_.frames_changed) config_.frames_changed();
   if (thread_.joinable()) thread_.join();
 }
 
@@ -207,16 +208,19 @@ void RenderSession::fail_step(const View& view, Progress& p, const std::string& 
                            ") failed: " + what + "; it resumes at the next change";
   if (config_.log) config_.log(line);
   else std::fprintf(stderr, "%s\n", line.c_str());
-  std::lock_guard lock(mutex_);
-  running_may_finish_ = false;
-  render_error_ = what;
-  error_version_ = view.version;
-  ++failures_;
-  if (job_.state == JobState::kRendering) {
-    job_.state = JobState::kFailed;
-    job_.message = "the render failed: " + what;
+  {
+    std::lock_guard lock(mutex_);
+    running_may_finish_ = false;
+    render_error_ = what;
+    error_version_ = view.version;
+    ++failures_;
+    if (job_.state == JobState::kRendering) {
+      job_.state = JobState::kFailed;
+      job_.message = "the render failed: " + what;
+    }
+    frame_cv_.notify_all();
   }
-  frame_cv_.notify_all();
+  if (config_.frames_changed) config_.frames_changed();
 }
 
 bool RenderSession::wait_for_work(std::unique_lock<std::mutex>& lock, const Progress& p, Step& step) {
@@ -331,33 +335,36 @@ void RenderSession::render_step(const Step& step, Progress& p) {
   full_frame_seconds_ = step.divisor == 1 ? seconds_per_sample_ : seconds * step.divisor * step.divisor;
   measured_for_ = vs;
 
-  std::lock_guard lock(mutex_);
-  running_may_finish_ = false;
-  if (job_.state == JobState::kRendering && job_.view_version == p.version && p.divisor == 1)
-    job_.progress = double(p.done) / vs.samples;
+  {
+    std::lock_guard lock(mutex_);
+    running_may_finish_ = false;
+    if (job_.state == JobState::kRendering && job_.view_version == p.version && p.divisor == 1)
+      job_.progress = double(p.done) / vs.samples;
 
-  FrameInfo info;
-  info.id = latest_ ? latest_->info.id + 1 : 1;
-  info.view_version = p.version;
-  info.width = width;
-  info.height = height;
-  info.view_width = vs.width;
-  info.view_height = vs.height;
-  info.samples = p.done;
-  info.target = uint32_t(vs.samples);
-  info.complete = p.complete && p.divisor == 1;
-  info.seconds = std::chrono::duration<double>(Clock::now() - p.started).count();
-  info.render_seconds = p.render_seconds;
-  info.rays = p.rays;
-  info.estimated_relative_rmse = p.estimated_relative_rmse;
-  info.display = vs.display;
-  info.camera = resolve_camera(step.view.camera, vs.width, vs.height);
-  auto frame = std::make_shared<const Frame>(info, p.film, config_.quantization);
-  starved_ = false;
-  if (config_.on_frame) config_.on_frame(frame->info);
-  latest_ = std::move(frame);
-  ++counters_.frames;
-  frame_cv_.notify_all();
+    FrameInfo info;
+    info.id = latest_ ? latest_->info.id + 1 : 1;
+    info.view_version = p.version;
+    info.width = width;
+    info.height = height;
+    info.view_width = vs.width;
+    info.view_height = vs.height;
+    info.samples = p.done;
+    info.target = uint32_t(vs.samples);
+    info.complete = p.complete && p.divisor == 1;
+    info.seconds = std::chrono::duration<double>(Clock::now() - p.started).count();
+    info.render_seconds = p.render_seconds;
+    info.rays = p.rays;
+    info.estimated_relative_rmse = p.estimated_relative_rmse;
+    info.display = vs.display;
+    info.camera = resolve_camera(step.view.camera, vs.width, vs.height);
+    auto frame = std::make_shared<const Frame>(info, p.film, config_.quantization);
+    starved_ = false;
+    if (config_.on_frame) config_.on_frame(frame->info);
+    latest_ = std::move(frame);
+    ++counters_.frames;
+    frame_cv_.notify_all();
+  }
+  if (config_.frames_changed) config_.frames_changed();
 }
 
 void RenderSession::write_job(const Progress& p) {

@@ -52,6 +52,8 @@ struct SessionConfig {
   /// thread, under the session's lock: it must not call the session)
   std::function<void()> on_idle;
   std::function<void(const std::string&)> log;  ///< one line per render failure (none: stderr)
+  /// called, outside the session's lock, whenever frame requests may have news: a frame, a failed render, the stop
+  std::function<void()> frames_changed;
 };
 
 /// A camera move from the page, in pixels of the view (zoom: wheel steps).

@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstring>
 #include <memory>
-#include <regex>
 
 #include "assets.h"
 #include "bvh/bvh4_inspect.h"
@@ -21,19 +19,19 @@ std::string json_text(const nlohmann::json& body) {
   return body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-void reply_json(httplib::Response& res, const nlohmann::json& body, int status) {
+void reply_json(Response& res, const nlohmann::json& body, int status) {
   res.status = status;
   res.set_content(json_text(body), "application/json");
 }
 
-void reply_error(httplib::Response& res, int status, const std::string& message) {
+void reply_error(Response& res, int status, const std::string& message) {
   std::string line = log_safe(message, 300);
   res.set_header("X-PT-Error", line);
   reply_json(res, {{"error", line}}, status);
 }
 
 Handler guarded(Handler handler) {
-  return [handler = std::move(handler)](const httplib::Request& req, httplib::Response& res) {
+  return [handler = std::move(handler)](const Request& req, Response& res) {
     try {
       handler(req, res);
     } catch (const ParamError& e) { reply_error(res, 400, e.what()); } catch (const InputError& e) {
@@ -113,37 +111,33 @@ nlohmann::json job_json(const RenderJob& j) {
           {"message", j.message}};
 }
 
-/// Host must be one of `hosts` (in any case) and a POST must carry X-PT-Live.
-httplib::Server::HandlerResponse guard(const RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
-  auto refuse = [&res](int status, const std::string& why) {
-    reply_error(res, status, why);
-    res.set_header("Connection", "close");  // a body the request may carry is left unread
-    return httplib::Server::HandlerResponse::Handled;
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// Host must be one of `hosts` (in any case) and the method GET, HEAD or POST. An API request must come from
+/// the page: it carries X-PT-Live: 1 (another site's page cannot send it: that takes a CORS preflight, which
+/// the server never grants), and no Origin or Sec-Fetch-Site that names another site.
+void guard(const RouteContext& ctx, const Request& req, Response& res) {
+  const auto ours = [&ctx](const std::string& host) {
+    return std::find(ctx.config.hosts.begin(), ctx.config.hosts.end(), lower(host)) != ctx.config.hosts.end();
   };
-  const auto& hosts = ctx.config.hosts;
-  const std::string host = req.get_header_value("Host");
-  std::string lower = host;
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (std::find(hosts.begin(), hosts.end(), lower) == hosts.end())
-    return refuse(403, "Host \"" + host + "\" is not this server's address");
+  const std::string host = req.header("Host"), origin = req.header("Origin"), site = req.header("Sec-Fetch-Site");
+  if (!ours(host)) return reply_error(res, 403, "Host \"" + host + "\" is not this server's address");
   if (req.method != "GET" && req.method != "HEAD" && req.method != "POST")
-    return refuse(405, "method " + req.method + " is not used here");
-  if (req.method == "POST" && req.get_header_value("X-PT-Live") != "1")
-    return refuse(403, "a POST needs the header X-PT-Live: 1 (the page sends it)");
-  return httplib::Server::HandlerResponse::Unhandled;
+    return reply_error(res, 405, "method " + req.method + " is not used here");
+  if (req.path.rfind("/api/", 0) != 0) return;
+  if (req.header("X-PT-Live") != "1")
+    return reply_error(res, 403, "an API request needs the header X-PT-Live: 1 (the page sends it)");
+  if (req.header_count("Origin") && !(origin.rfind("http://", 0) == 0 && ours(origin.substr(7))))
+    return reply_error(res, 403, "Origin \"" + origin + "\" is another site");
+  if (req.header_count("Sec-Fetch-Site") && site != "same-origin")
+    return reply_error(res, 403, "Sec-Fetch-Site \"" + site + "\": the request comes from another site");
 }
 
-std::string escape_regex(std::string_view path) {
-  std::string out;
-  for (char c : path) {
-    if (std::strchr(".^$|()[]{}*+?\\", c)) out += '\\';
-    out += c;
-  }
-  return out;
-}
-
-void add_state_routes(httplib::Server& server, RouteContext& ctx) {
-  server.Get("/api/state", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+void add_state_routes(HttpServer& server, RouteContext& ctx) {
+  server.get("/api/state", guarded([&ctx](const Request& req, Response& res) {
                RequestParams params(req.params, {});
                RenderSession::View v = ctx.session.view();
                SessionCounters n = ctx.session.counters();
@@ -166,69 +160,80 @@ void add_state_routes(httplib::Server& server, RouteContext& ctx) {
                            {"max_chunks_after_cancel", n.max_chunks_after_cancel},
                            {"last_cancel_seconds", n.last_cancel_seconds},
                            {"connections", ctx.shares.open()},
-                           {"frame_waits", ctx.shares.frame_waits()}}},
+                           {"frame_waits", ctx.shares.frame_waits()},
+                           {"frame_bytes_sent", ctx.frames.bytes()}}},
                          {"names", {{"display", kDisplayNames}, {"bounces", kBounceNames}, {"direct", kDirectNames}}}});
              }));
-  server.Get("/api/render", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+  server.get("/api/render", guarded([&ctx](const Request& req, Response& res) {
                RequestParams params(req.params, {});
                reply_json(res, job_json(ctx.session.job()));
              }));
 }
 
+/// What a frame response sends and holds until it is sent.
+struct FrameBody {
+  std::string head;  ///< the length of the JSON and the JSON
+  std::shared_ptr<const Frame> frame;
+  std::unique_ptr<FramesInFlight::Lease> lease;
+};
+
+/// The reply to a frame request once its wait is over: the newest frame after `after`, or 204, 500 or 503.
+void reply_frame(RouteContext& ctx, uint64_t after, uint64_t connection, Response& res) {
+  std::shared_ptr<const Frame> frame = ctx.session.frame_after(after, std::chrono::milliseconds(0));
+  if (ctx.session.stopped()) return reply_error(res, 503, "the server is stopping");
+  if (!frame) {
+    if (std::string why = ctx.session.render_error(); !why.empty())
+      return reply_error(res, 500, "the render of this view failed: " + why);
+    res.status = 204;
+    return;
+  }
+  auto body = std::make_shared<FrameBody>();
+  const std::string meta = json_text(frame_json(frame->info, ctx.session.view().settings_version));
+  for (int i = 0; i < 4; ++i) body->head += char((meta.size() >> (8 * i)) & 0xff);
+  body->head += meta;
+  // The pixels are sent from the frame itself, not copied; a frame being sent counts against the budget.
+  const std::string& rgba = frame->rgba();
+  FramesInFlight::Leased leased = ctx.frames.lease(frame->info.id, body->head.size() + rgba.size(), connection);
+  for (uint64_t cut : leased.cut)
+    if (ctx.shares.end(cut))
+      ctx.log("live: cut a connection sending an older frame: the frames being sent would hold more than " +
+              std::to_string(ctx.config.frame_bytes >> 20) + " MiB");
+  body->frame = std::move(frame);
+  body->lease = std::move(leased.lease);
+  res.content_type = "application/octet-stream";
+  res.parts = {body->head, rgba};
+  res.keep = std::move(body);
+}
+
 /// GET /api/frame?after=N: the newest frame once newer than N, as
 /// [u32 little-endian length of the JSON][the JSON][width * height * 4 RGBA bytes]; 204 after the wait;
 /// 429 when the client has its share of frame requests waiting already; 500 when the view's render failed;
-/// 503 once the server stops (the page then waits before asking again).
-void add_frame_route(httplib::Server& server, RouteContext& ctx) {
-  server.Get("/api/frame", guarded([&ctx](const httplib::Request& req, httplib::Response& res) {
+/// 503 once the server stops (the page then waits before asking again). The wait holds no thread.
+void add_frame_route(HttpServer& server, RouteContext& ctx) {
+  server.get("/api/frame", guarded([&ctx](const Request& req, Response& res) {
                RequestParams params(req.params, {"after"});
                uint64_t after = params.has("after") ? uint64_t(params.integer("after", 0, int64_t(1) << 53)) : 0;
-               FrameWait wait(ctx.shares, client_of(req.remote_addr));
-               if (!wait)
+               auto wait = std::make_shared<FrameWait>(ctx.shares, client_of(req.remote_addr));
+               if (!*wait)
                  return reply_error(res, 429,
                                     "this client has " + std::to_string(ctx.shares.limits().frame_waits_per_client) +
                                         " frame requests waiting already");
-               std::shared_ptr<const Frame> frame = ctx.session.frame_after(after, ctx.config.frame_wait);
-               if (ctx.session.stopped()) {
-                 res.set_header("Connection", "close");
-                 return reply_error(res, 503, "the server is stopping");
-               }
-               if (!frame) {
-                 if (std::string why = ctx.session.render_error(); !why.empty())
-                   return reply_error(res, 500, "the render of this view failed: " + why);
-                 res.status = 204;
-                 return;
-               }
-               auto head = std::make_shared<std::string>(4, '\0');
-               const std::string meta = json_text(frame_json(frame->info, ctx.session.view().settings_version));
-               const uint32_t n = uint32_t(meta.size());
-               for (int i = 0; i < 4; ++i) (*head)[i] = char((n >> (8 * i)) & 0xff);
-               *head += meta;
-               // The pixels are sent from the frame itself, not copied into the response.
-               const std::string& rgba = frame->rgba();
-               res.set_content_provider(
-                   head->size() + rgba.size(), "application/octet-stream",
-                   [head, frame](size_t offset, size_t length, httplib::DataSink& sink) {
-                     const std::string& pixels = frame->rgba();
-                     while (length > 0) {
-                       const bool in_head = offset < head->size();
-                       const char* from = in_head ? head->data() + offset : pixels.data() + (offset - head->size());
-                       const size_t part =
-                           std::min(length, in_head ? head->size() - offset : pixels.size() - (offset - head->size()));
-                       if (!sink.write(from, part)) return false;
-                       offset += part;
-                       length -= part;
-                     }
-                     return true;
-                   });
+               auto ready = [&ctx, after] {
+                 return ctx.session.stopped() || !ctx.session.render_error().empty() ||
+                        ctx.session.frame_after(after, std::chrono::milliseconds(0));
+               };
+               auto reply = [&ctx, after, wait, connection = req.connection](Response& r) {
+                 reply_frame(ctx, after, connection, r);
+               };
+               res.deferred = std::make_shared<Response::Wait>(Response::Wait{ready, ctx.config.frame_wait, reply});
              }));
 }
 
 }  // namespace
 
 void add_routes(HttpServer& server, RenderSession& session, const SceneBvh4& bvh, const RouteConfig& config) {
-  auto ctx =
-      std::make_shared<RouteContext>(RouteContext{session, bvh, server.shares(), config, bvh4_max_depth(bvh.bvh())});
+  auto ctx = std::make_shared<RouteContext>(session, bvh, server.shares(), config, bvh4_max_depth(bvh.bvh()));
+  ctx->log = [&server](const std::string& line) { server.log(line); };
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
                               {"X-Frame-Options", "DENY"},
                               {"Referrer-Policy", "no-referrer"},
@@ -237,20 +242,12 @@ void add_routes(HttpServer& server, RenderSession& session, const SceneBvh4& bvh
                                "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
                                "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'none'"}});
   // The guard holds the context; the routes below use it by reference for as long as the server holds the guard.
-  server.set_request_guard(
-      [ctx](const httplib::Request& req, httplib::Response& res) { return guard(*ctx, req, res); });
-  server.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
-    std::string what = "internal error";
-    try {
-      std::rethrow_exception(ep);
-    } catch (const std::exception& e) { what = e.what(); } catch (...) {
-    }
-    reply_error(res, 500, what);
-  });
+  server.set_guard([ctx](const Request& req, Response& res) { guard(*ctx, req, res); });
   for (const Asset& a : embedded_assets())
-    server.Get(escape_regex(a.path), [a](const httplib::Request& req, httplib::Response& res) {
+    server.get(std::string(a.path), [a](const Request& req, Response& res) {
       if (!req.params.empty()) return reply_error(res, 400, "the page takes no parameters");
-      res.set_content(a.bytes.data(), a.bytes.size(), std::string(a.content_type));
+      res.content_type = std::string(a.content_type);
+      res.parts = {a.bytes};  // sent from the binary's own bytes
     });
   add_state_routes(server, *ctx);
   add_frame_route(server, *ctx);

@@ -1,9 +1,10 @@
 // The live view's endpoints (docs/live_view.md lists them): the embedded
 // page, the shared view's state and frames, camera moves and settings, the
 // BVH overlays, Save camera and Render. Every request first passes the guard:
-// its Host must be one the server answers to (no DNS rebinding) and every
-// POST must carry the header X-PT-Live (no cross-site form posts); methods
-// other than GET, HEAD and POST are refused.
+// its Host must be one the server answers to (no DNS rebinding), methods
+// other than GET, HEAD and POST are refused, and every API request must carry
+// the header X-PT-Live, which only the page itself can send (no cross-site
+// use), and no Origin or Sec-Fetch-Site that names another site.
 #pragma once
 
 #include <chrono>
@@ -24,6 +25,7 @@ struct RouteConfig {
   std::vector<std::string> hosts;     ///< Host header values accepted, in lower case (accepted_hosts)
   std::string scene_name;
   std::chrono::milliseconds frame_wait{10000};  ///< the longest a frame request waits (then 204)
+  size_t frame_bytes = size_t(16) << 20;        ///< the frames being sent at once (FramesInFlight's budget)
 };
 
 /// Registers every route on `server`; `session` and `bvh` outlive it.

@@ -12,7 +12,7 @@ constexpr double kMaxZoomSteps = 100;    ///< 1.1^100: 13780 times nearer or far
 constexpr float kMaxCoordinate = 1e15f;  ///< the scene loader's coordinate limit
 constexpr std::array<const char*, 5> kNavOps = {"orbit", "pan", "zoom", "reset", "still"};  // NavInput::Kind
 
-void navigate(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void navigate(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"op", "dx", "dy", "steps", "moving"});
   NavInput in;
   in.kind = static_cast<NavInput::Kind>(params.choice("op", kNavOps));
@@ -25,12 +25,12 @@ void navigate(RouteContext& ctx, const httplib::Request& req, httplib::Response&
     if (params.has("dx") || params.has("dy")) throw ParamError("dx, dy: op=zoom takes steps");
     in.dx = params.number("steps", -kMaxZoomSteps, kMaxZoomSteps);
   } else if (params.has("dx") || params.has("dy") || params.has("steps")) {
-    throw ParamError("op=" + req.get_param_value("op") + " takes no dx, dy or steps");
+    throw ParamError("op=" + std::string(kNavOps[size_t(in.kind)]) + " takes no dx, dy or steps");
   }
   reply_json(res, {{"version", ctx.session.navigate(in)}});
 }
 
-void change_settings(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void change_settings(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"width", "height", "samples", "light", "depth", "display", "bounces", "direct",
                                     "adaptive_tolerance", "adaptive_batch", "preview"});
   ViewSettings s = ctx.session.view().settings;
@@ -56,7 +56,7 @@ void change_settings(RouteContext& ctx, const httplib::Request& req, httplib::Re
 }
 
 /// Places the camera at `position` looking at `target`, optionally with a vertical field of view.
-void set_camera(RouteContext& ctx, const httplib::Request& req, httplib::Response& res) {
+void set_camera(RouteContext& ctx, const Request& req, Response& res) {
   RequestParams params(req.params, {"position", "target", "vfov"});
   const float3 position = params.vector("position", kMaxCoordinate);
   const float3 target = params.vector("target", kMaxCoordinate);
@@ -76,13 +76,10 @@ void set_camera(RouteContext& ctx, const httplib::Request& req, httplib::Respons
 
 }  // namespace
 
-void add_view_routes(httplib::Server& server, RouteContext& ctx) {
-  using namespace std::placeholders;
-  server.Post("/api/nav", guarded([&ctx](const httplib::Request& q, httplib::Response& r) { navigate(ctx, q, r); }));
-  server.Post("/api/settings",
-              guarded([&ctx](const httplib::Request& q, httplib::Response& r) { change_settings(ctx, q, r); }));
-  server.Post("/api/camera",
-              guarded([&ctx](const httplib::Request& q, httplib::Response& r) { set_camera(ctx, q, r); }));
+void add_view_routes(HttpServer& server, RouteContext& ctx) {
+  server.post("/api/nav", guarded([&ctx](const Request& q, Response& r) { navigate(ctx, q, r); }));
+  server.post("/api/settings", guarded([&ctx](const Request& q, Response& r) { change_settings(ctx, q, r); }));
+  server.post("/api/camera", guarded([&ctx](const Request& q, Response& r) { set_camera(ctx, q, r); }));
 }
 
 }  // namespace pt::live

@@ -17,7 +17,7 @@ packages=(
   clang libclang-rt-14-dev      # libFuzzer and the sanitizer build
   clang-format                  # the code style check (scripts/check_format.sh)
   python3-matplotlib            # convergence charts
-  libcpp-httplib-dev            # the live view's HTTP server (pathtracer --serve)
+  libmicrohttpd-dev             # the live view's HTTP server (pathtracer --serve)
   python3-pil                   # the live view's browser test reads PNGs
   python3-imageio libfreeimage3 # EXR images in the scripts' toolkit (scripts/ptlib/images.py)
 )

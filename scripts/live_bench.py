@@ -48,16 +48,20 @@ class Live:
         self.url = re.search(r"(http://[^/]+)/", line).group(1)
         self.cameras_saved = 0  # a named file is never replaced: each camera gets a name of its own
 
+    def open(self, path, method="GET"):
+        # Every API request carries the page's header (the server refuses one without it).
+        return urllib.request.urlopen(urllib.request.Request(self.url + path, method=method,
+                                                             headers={"X-PT-Live": "1"}))
+
     def post(self, path):
-        request = urllib.request.Request(self.url + path, method="POST", headers={"X-PT-Live": "1"})
-        return json.load(urllib.request.urlopen(request))
+        return json.load(self.open(path, "POST"))
 
     def get(self, path):
-        return json.load(urllib.request.urlopen(self.url + path))
+        return json.load(self.open(path))
 
     def frame(self, after):
         while True:
-            reply = urllib.request.urlopen("%s/api/frame?after=%d" % (self.url, after))
+            reply = self.open("/api/frame?after=%d" % after)
             if reply.status == 200:
                 data = reply.read()
                 n = struct.unpack("<I", data[:4])[0]

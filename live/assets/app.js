@@ -28,8 +28,8 @@
 
   async function request(method, path, params) {
     const query = params ? '?' + new URLSearchParams(params).toString() : '';
-    const init = {method, cache: 'no-store'};
-    if (method !== 'GET') init.headers = {'X-PT-Live': '1'};
+    // Every API request carries the header: the server refuses one without it (another site cannot send it).
+    const init = {method, cache: 'no-store', headers: {'X-PT-Live': '1'}};
     const res = await fetch(path + query, init);
     const body = res.headers.get('Content-Type') === 'application/json' ? await res.json() : null;
     if (!res.ok) throw new Error((body && body.error) || (res.status + ' ' + res.statusText));
@@ -99,7 +99,8 @@
     frameError = '';
     try {
       polling = new AbortController();
-      const res = await fetch('/api/frame?after=' + after, {cache: 'no-store', signal: polling.signal});
+      const res = await fetch('/api/frame?after=' + after,
+                              {cache: 'no-store', headers: {'X-PT-Live': '1'}, signal: polling.signal});
       if (res.status === 204) return 'again';
       if (res.ok) return await res.arrayBuffer();
       try {
