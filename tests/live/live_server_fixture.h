@@ -100,12 +100,9 @@ class LiveServerBase : public ::testing::Test {
     ASSERT_GT(port, 0);
     host = "127.0.0.1:" + std::to_string(port);
     // Frame requests wait up to a minute: only a frame, a failure or the stop ends one in a test.
-    RouteConfig routes{dir.path(),
-                       dir / "camera.txt",
-                       dir / "image.png",
-                       {host, "localhost:" + std::to_string(port)},
-                       options_.scene_name,
-                       milliseconds(60000)};
+    RouteConfig routes{dir.path(),          dir / "camera.txt",
+                       dir / "image.png",   {host, "localhost:" + std::to_string(port)},
+                       options_.scene_name, milliseconds(60000)};
     add_routes(server, session, bvh, routes);
     ASSERT_TRUE(server.start());
   }
