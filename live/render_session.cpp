@@ -396,6 +396,8 @@ void RenderSession::write_job(const Progress& p) {
       }
     } catch (const std::exception& e) { error = e.what(); }
   }
+  image.reset();  // a staged file not put in place is removed before the job says how it ended
+  rate.reset();
   job_.state = error.empty() ? JobState::kDone : JobState::kFailed;
   job_.progress = error.empty() ? 1.0 : job_.progress;
   job_.message = error;
